@@ -1,0 +1,22 @@
+"""pendulab: symbolic-numeric derivations for parametrically driven pendulums.
+
+Two systems are modelled, following the two source documents
+(000_8cba66c4fdf94ac6.txt: the inverted pendulum on a vertically driven pivot;
+002_19b336b29bb1f03b.txt: the variable-length pendulum).
+
+The package is import-light: heavy modules (analyses, numerics) are imported
+only when asked for.
+"""
+
+__version__ = "0.1.0"
+
+from pendulab.errors import (  # noqa: F401
+    PendulabError,
+    InputError,
+    SceneError,
+    PrecisionError,
+    ConvergenceError,
+    SeriesDomainError,
+    AccuracyWarning,
+)
+from pendulab.exprs import load_expr, dump_expr  # noqa: F401

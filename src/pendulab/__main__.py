@@ -1,0 +1,5 @@
+import sys
+
+from pendulab.cli import main
+
+sys.exit(main())

@@ -1,0 +1,1 @@
+"""Stage 4 (analyses): Floquet theory, perturbation series, averaging, stability limits."""

@@ -1,0 +1,157 @@
+"""The variable-length pendulum in closed form (002_19b336b29bb1f03b.txt).
+
+From the generalised Bessel match of :func:`pendulab.canonical.length_form`
+(alpha = -1/2, beta = 1/2, k = 2 sqrt(g)/v0, p = 1 for L = L0 + v0 t) the
+general solution is theta = x^alpha (C1 J_p(k x^beta) + C2 Y_p(k x^beta)),
+written with z = k L^beta as theta = A z^(alpha/beta) J_p(z) + B z^(alpha/beta) Y_p(z)
+(002: theta = A z^-1 J1(z) + B z^-1 Y1(z), z = (2/v0) sqrt(g L)).
+
+Every step is checked by SymPy rather than asserted:
+
+* the solution is substituted into the equation and the residual simplifies
+  to exactly 0 (:func:`closed_form` ``residual``);
+* the derivative rule d/dz [z^-p C_p(z)] = -z^-p C_{p+1}(z) for C = J, Y
+  (DLMF 10.6.6; 002 "Obs. 1") is verified symbolically before it is used;
+* the cross product z (J_n Y_{n+1} - J_{n+1} Y_n) is shown to be constant
+  (its z-derivative simplifies to 0: Abel's theorem, 002 "Demonstração") and
+  its value is the limit z -> 0, giving -2/pi (002 "Afirmação"; DLMF 10.5.3);
+* the constants A, B for theta(0) = theta_0, theta'(0) = 0 then follow by
+  Cramer's rule and the cross product.
+
+High-precision numerical checks (mpmath) of the same identities live in
+:func:`check_cross_product_numerically`.
+"""
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from pendulab import symbols as S
+from pendulab.canonical import Lvar
+from pendulab.errors import DerivationOrderError, InputError
+
+_z = S.z
+
+
+def derivative_rule_holds(p, kind):
+    """True when d/dz[z^-p C_p(z)] + z^-p C_{p+1}(z) simplifies to 0 (DLMF 10.6.6)."""
+    f = {"J": sp.besselj, "Y": sp.bessely}[kind]
+    expr = sp.diff(_z**-p * f(p, _z), _z) + _z**-p * f(p + 1, _z)
+    return sp.simplify(expr) == 0
+
+
+def cross_product(n):
+    """Derive J_n Y_{n+1} - J_{n+1} Y_n in closed form (002 "Afirmação", "Obs. 2").
+
+    Abel's theorem: z times the cross product has zero derivative (checked by
+    simplification), so it equals its limit at z -> 0, which SymPy computes
+    from the series of J and Y.  Returns the closed form, a function of z.
+    """
+    cross = sp.besselj(n, _z) * sp.bessely(n + 1, _z) - sp.besselj(n + 1, _z) * sp.bessely(n, _z)
+    if sp.simplify(sp.diff(_z * cross, _z)) != 0:
+        raise InputError(f"could not show that z*(J_{n} Y_{n+1} - J_{n+1} Y_{n}) is constant")
+    constant = sp.limit(_z * cross, _z, 0, "+")
+    return constant / _z
+
+
+@dataclass
+class BesselSolution:
+    """General solution and initial-value solution of the variable-length pendulum.
+
+    Call :meth:`solve` first; reading a result before raises
+    :class:`DerivationOrderError` ("solve() first").
+    """
+
+    form: object  # pendulab.canonical.BesselForm
+    length: sp.Expr
+    _done: bool = False
+
+    def _need(self):
+        if not self._done:
+            raise DerivationOrderError("the Bessel solution is read before solve() ran")
+
+    def solve(self):
+        f = self.form
+        if f is None or f.alpha is None:
+            raise InputError("the equation has no generalised Bessel form; no closed form")
+        alpha, beta, k, p = f.alpha, f.beta, f.k, f.p
+        if not (p.is_integer and p >= 0):
+            raise InputError(f"Bessel order {p} is not a non-negative integer")
+        self.z_of_L = k * Lvar**beta
+        power = sp.simplify(alpha / beta)
+        self.power = power
+        self.general_z = (S.A * _z**power * sp.besselj(p, _z)
+                          + S.B * _z**power * sp.bessely(p, _z))
+        theta_L = self.general_z.subs(_z, self.z_of_L)
+        # Substitution check in the L-form (002 eq. 7 corrected) ...
+        eq = f.euler_form
+        thL = S.theta(Lvar)
+        residual_L = eq.subs({thL.diff(Lvar, 2): theta_L.diff(Lvar, 2),
+                              thL.diff(Lvar): theta_L.diff(Lvar)}).subs(thL, theta_L)
+        self.residual_L = sp.simplify(residual_L)
+        # ... and in t, in the linear equation (002 eq. 4) with L(t) written out.
+        theta_t = theta_L.subs(Lvar, self.length)
+        lin = (self.length * theta_t.diff(S.t, 2) + 2 * self.length.diff(S.t) * theta_t.diff(S.t)
+               + S.g * theta_t)
+        self.residual_t = sp.simplify(lin)
+        # Initial conditions theta(0) = theta_0, theta'(0) = 0 (002).  dz/dt != 0, so
+        # theta'(0) = 0 <=> dtheta/dz = 0 at z0; the derivative rule turns
+        # d/dz[z^-p C_p] into -z^-p C_{p+1} once it has been checked.
+        self.z0 = sp.simplify(self.z_of_L.subs(Lvar, self.length.subs(S.t, 0)))
+        rules_ok = power == -p and all(derivative_rule_holds(int(p), c) for c in "JY")
+        if rules_ok:
+            dtheta = -(S.A * _z**power * sp.besselj(p + 1, _z)
+                       + S.B * _z**power * sp.bessely(p + 1, _z))
+            if sp.simplify(dtheta - self.general_z.diff(_z)) != 0:
+                raise InputError("derivative rule check failed")
+        else:
+            dtheta = self.general_z.diff(_z)
+        self.dtheta_dz = dtheta
+        z0s = S.z0
+        eqs = [self.general_z.subs(_z, z0s) - S.theta_0, dtheta.subs(_z, z0s)]
+        sol = sp.solve(eqs, [S.A, S.B], dict=True)[0]
+        self.cramer = {key: sp.factor(val) for key, val in sol.items()}
+        cross = cross_product(int(p))  # J_p Y_{p+1} - J_{p+1} Y_p as a function of z
+        jy = sp.besselj(p, z0s) * sp.bessely(p + 1, z0s) - sp.besselj(p + 1, z0s) * sp.bessely(p, z0s)
+        simplified = {}
+        for key, val in self.cramer.items():
+            num, den = sp.fraction(sp.together(val))
+            ratio = sp.cancel(den / jy)
+            if ratio.has(sp.besselj) or ratio.has(sp.bessely):
+                simplified[key] = val
+            else:
+                simplified[key] = sp.factor(num / (ratio * cross.subs(_z, z0s)))
+        self.z0_symbol = z0s
+        self.constants = simplified
+        self.particular_z = sp.factor(self.general_z.subs(simplified))
+        self.cross = cross
+        self._done = True
+        return self
+
+    @property
+    def solution(self):
+        self._need()
+        return self.general_z
+
+    @property
+    def residuals(self):
+        self._need()
+        return self.residual_L, self.residual_t
+
+
+def closed_form(form, length):
+    """Solve the variable-length pendulum for ``form`` (a BesselForm) and ``length`` L(t)."""
+    return BesselSolution(form, sp.sympify(length)).solve()
+
+
+def check_cross_product_numerically(n, z_values, dps=50):
+    """max |J_n Y_{n+1} - J_{n+1} Y_n + 2/(pi z)| over ``z_values`` at ``dps`` digits (mpmath)."""
+    import mpmath
+    worst = mpmath.mpf(0)
+    with mpmath.workdps(dps + 10):
+        for zv in z_values:
+            zz = mpmath.mpf(zv)
+            val = (mpmath.besselj(n, zz) * mpmath.bessely(n + 1, zz)
+                   - mpmath.besselj(n + 1, zz) * mpmath.bessely(n, zz) + 2 / (mpmath.pi * zz))
+            worst = max(worst, abs(val))
+    return worst

@@ -1,0 +1,209 @@
+"""Stage 3 (canonical form): Mathieu/Hill for the driven pivot, Bessel for the variable length.
+
+Driven pivot: with tau = omega t / 2 (000, before eq. 5) the linearised
+equation becomes theta'' + P(tau) theta = 0.  The periodic coefficient is
+analysed exactly: it is rewritten as a finite sum of exponentials
+exp(i k tau), and
+
+* only k in {0, +-2}: Mathieu's equation theta'' + (theta0 + 2 theta1 cos 2tau)
+  theta = 0 (000 eq. 7), with theta0 and theta1 read off (000 eqs. 5-6); a
+  sine or phase-shifted drive is Mathieu's after a shift of tau, reported;
+* other integer k (a drive with several harmonics of omega): a Hill
+  equation, reported with its Fourier coefficients;
+* anything else (non-periodic or incommensurate drive): neither, reported as
+  a linear equation with a time-dependent coefficient.
+
+Variable length: for L(t) = c0 + c1 t the length becomes the independent
+variable (002 eqs. 5-7) and the equation is matched to the generalised Bessel
+form x^2 y'' + (1 - 2 alpha) x y' + (alpha^2 - beta^2 p^2 + beta^2 k^2 x^(2 beta)) y = 0
+(002, "equação de Bessel modificada"), whose solutions are x^alpha Z_p(k x^beta).
+"""
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from pendulab import symbols as S
+from pendulab.errors import InputError
+
+#: The length used as independent variable (002 eqs. 5-7).
+Lvar = S.Lvar
+
+
+# ---------------------------------------------------------------------------
+# Driven pivot
+# ---------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class PeriodicForm:
+    """theta''(tau) + coefficient(tau) theta = 0 and what kind of equation it is.
+
+    ``kind`` is "mathieu", "hill" or "linear".  For Mathieu, ``theta0`` and
+    ``theta1`` are the parameters of 000 eq. 7 and ``shift`` the tau-shift that
+    turns the drive into a pure cosine (0 for the source's drive).  ``fourier``
+    maps k >= 0 to the real pair (A_k, B_k) of the coefficient
+    sum_k A_k cos(k tau) + B_k sin(k tau) (Hill and Mathieu).
+    """
+
+    equation: sp.Expr
+    coefficient: sp.Expr
+    kind: str
+    theta0: sp.Expr = None
+    theta1: sp.Expr = None
+    shift: sp.Expr = sp.Integer(0)
+    fourier: dict = field(default_factory=dict)
+    period: sp.Expr = None
+    note: str = ""
+
+
+def _exponential_spectrum(expr, var):
+    """Write ``expr`` as sum c_k exp(i k var); return {k: c_k} or None.
+
+    None when some term is not of that form (k must be a number).
+    """
+    expanded = sp.expand(sp.powsimp(sp.expand(expr.rewrite(sp.exp)), combine="exp"))
+    spectrum = {}
+    for term in sp.Add.make_args(expanded):
+        coeff, dep = term.as_independent(var, as_Add=False)
+        if dep == 1:
+            k = sp.Integer(0)
+        else:
+            dep = sp.powsimp(dep, combine="exp")
+            if not isinstance(dep, sp.exp):
+                return None
+            rate = sp.expand(dep.args[0] / (sp.I * var))
+            if rate.has(var) or not rate.is_number or not rate.is_real:
+                return None
+            k = sp.nsimplify(rate)
+        spectrum[k] = spectrum.get(k, 0) + coeff
+    return {k: sp.simplify(c) for k, c in spectrum.items() if sp.simplify(c) != 0}
+
+
+def _real_fourier(spectrum):
+    """{k: c_k} of exp(i k tau) -> {k >= 0: (A_k, B_k)} of cos(k tau), sin(k tau)."""
+    out = {}
+    for k in sorted({abs(int(k)) for k in spectrum}):
+        cp = spectrum.get(sp.Integer(k), sp.Integer(0))
+        cm = spectrum.get(sp.Integer(-k), sp.Integer(0))
+        if k == 0:
+            out[0] = (sp.simplify(cp), sp.Integer(0))
+        else:
+            out[k] = (sp.simplify(cp + cm), sp.simplify(sp.I * (cp - cm)))
+    return out
+
+
+def periodic_form(equations):
+    """Canonical form of the driven pivot's linearised equation in tau = omega t/2."""
+    th_t = S.theta(S.t)
+    lin = sp.expand(equations.linear)
+    acc = th_t.diff(S.t, 2)
+    if sp.simplify(lin.coeff(acc) - 1) != 0:
+        raise InputError("linear equation is not normalised")
+    coefficient_t = sp.simplify(lin.coeff(th_t))
+    rest = sp.simplify(lin - acc - coefficient_t * th_t)
+    if rest != 0:
+        raise InputError(f"linearised equation has terms other than theta'' and theta: {rest}")
+    # theta(t) = Theta(tau), d^2/dt^2 = (omega/2)^2 d^2/dtau^2 (000, before eq. 5).
+    coefficient = sp.expand(sp.simplify(
+        (4 / S.omega**2) * coefficient_t.subs(S.t, 2 * S.tau / S.omega)))
+    th = S.theta(S.tau)
+    equation = th.diff(S.tau, 2) + coefficient * th
+    spectrum = _exponential_spectrum(coefficient, S.tau)
+    if spectrum is None or any(not k.is_integer for k in spectrum):
+        return PeriodicForm(equation, coefficient, "linear",
+                            note="the coefficient is not periodic with the drive period "
+                                 "2*pi/omega: neither Mathieu's nor Hill's equation")
+    period = sp.pi if all(k % 2 == 0 for k in spectrum) else 2 * sp.pi
+    nonzero = sorted(k for k in spectrum if k != 0)
+    fourier = _real_fourier(spectrum)
+    if nonzero and nonzero != [-2, 2]:
+        return PeriodicForm(equation, coefficient, "hill", fourier=fourier, period=period,
+                            note="the drive is not a single harmonic of omega: this is a Hill "
+                                 "equation with the Fourier coefficients given, not Mathieu's")
+    theta0 = spectrum.get(sp.Integer(0), sp.Integer(0))
+    if not nonzero:
+        return PeriodicForm(equation, coefficient, "mathieu", theta0=theta0,
+                            theta1=sp.Integer(0), fourier=fourier, period=sp.pi,
+                            note="no periodic drive term: theta1 = 0")
+    cp = spectrum[sp.Integer(2)]
+    # c_2 e^{2i tau} + c_-2 e^{-2i tau} = 2 |c_2| cos(2 tau + arg c_2) for real coefficients.
+    modulus = sp.simplify(sp.sqrt(sp.expand(cp * sp.conjugate(cp))))
+    phase = sp.simplify(sp.arg(cp)) if not sp.simplify(sp.im(cp)) == 0 else (
+        sp.Integer(0) if sp.simplify(cp).is_nonnegative or not sp.simplify(cp).is_negative
+        else sp.pi)
+    if sp.simplify(sp.im(cp)) == 0:
+        theta1 = sp.simplify(cp)
+        shift = sp.Integer(0)
+    else:
+        theta1 = modulus
+        shift = sp.simplify(-phase / 2)
+    note = "" if shift == 0 else (
+        f"Mathieu's equation in the shifted time tau - ({shift}); the drive is a "
+        "phase-shifted cosine")
+    return PeriodicForm(equation, coefficient, "mathieu", theta0=theta0, theta1=theta1,
+                        shift=shift, fourier=fourier, period=sp.pi, note=note)
+
+
+# ---------------------------------------------------------------------------
+# Variable length
+# ---------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class BesselForm:
+    """The variable-length equation with L as independent variable (002 eqs. 5-7).
+
+    ``length_equation`` is L v0^2 theta_LL + 2 v0^2 theta_L + g theta (002,
+    the line before eq. 7); ``euler_form`` is that times L/v0^2, so that the
+    theta_LL coefficient is L^2 (002 eq. 7, see the docs for the factor L the
+    printed eq. 7 drops).  ``alpha, beta, k, p`` are the generalised Bessel
+    parameters; ``None`` when the equation does not have that form.
+    """
+
+    rate: sp.Expr
+    length_equation: sp.Expr
+    euler_form: sp.Expr
+    alpha: sp.Expr = None
+    beta: sp.Expr = None
+    k: sp.Expr = None
+    p: sp.Expr = None
+
+
+def length_form(equations):
+    """Change the independent variable from t to L for L(t) = c0 + c1 t (002 eqs. 5-7)."""
+    system = equations.system
+    if not system.is_linear_length:
+        return None
+    rate = sp.Poly(system.length, S.t).coeff_monomial(S.t)
+    th_L = S.theta(Lvar)
+    ell = S.L(S.t)
+    lin = equations.linear
+    # Chain rule (002 eqs. 5-6): d/dt = v0 d/dL, so theta' = v0 theta_L, theta'' = v0^2 theta_LL.
+    replaced = lin.subs({
+        S.theta(S.t).diff(S.t, 2): rate**2 * th_L.diff(Lvar, 2),
+        S.theta(S.t).diff(S.t): rate * th_L.diff(Lvar),
+    }).subs({ell.diff(S.t): rate}).subs({ell: Lvar, S.theta(S.t): th_L})
+    length_equation = sp.expand(replaced)
+    lead = length_equation.coeff(th_L.diff(Lvar, 2))
+    euler = sp.expand(length_equation * Lvar**2 / lead)
+    return _match_bessel(rate, length_equation, euler)
+
+
+def _match_bessel(rate, length_equation, euler):
+    th_L = S.theta(Lvar)
+    c1 = sp.simplify(euler.coeff(th_L.diff(Lvar)) / Lvar)
+    c0 = sp.expand(euler.subs({th_L.diff(Lvar, 2): 0, th_L.diff(Lvar): 0}) / th_L)
+    if c1.has(Lvar):
+        return BesselForm(rate, length_equation, euler)
+    poly = sp.Poly(c0, Lvar) if c0.is_polynomial(Lvar) else None
+    if poly is None:
+        return BesselForm(rate, length_equation, euler)
+    terms = {mon[0]: cf for mon, cf in zip(poly.monoms(), poly.coeffs())}
+    q0 = terms.pop(0, sp.Integer(0))
+    if len(terms) != 1:
+        return BesselForm(rate, length_equation, euler)
+    (s, q1), = terms.items()
+    alpha = (1 - c1) / 2
+    beta = sp.Rational(s, 2)
+    k = sp.sqrt(q1) / beta
+    p = sp.sqrt(sp.simplify(alpha**2 - q0)) / beta
+    return BesselForm(rate, length_equation, euler, alpha, beta, sp.simplify(k), sp.simplify(p))

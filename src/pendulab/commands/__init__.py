@@ -1,0 +1,1 @@
+"""Sub-commands of the ``pendulab`` command line (one module each)."""

@@ -1,0 +1,23 @@
+"""pendulab build SCENE [--force] [--out DIR]"""
+
+import argparse
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "build", help="build the products a scene file asks for",
+        description="Build the products named in a scene file (or in every *.toml of a "
+                    "directory) into OUT/<scene name>/.  Only what the products need is "
+                    "computed; scenes whose inputs have not changed are skipped.",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    p.add_argument("scene", help="a scene file (derivations/*.toml) or a directory of them")
+    p.add_argument("--force", action="store_true", help="rebuild even when up to date")
+    p.add_argument("--out", default="generated", help="output root directory")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args):
+    from pendulab.build import build
+    build(args.scene, out_root=args.out, force=args.force)
+    return 0

@@ -1,0 +1,74 @@
+"""pendulab derive kapitza|variable-length [...] [--json|--latex]"""
+
+import argparse
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "derive", help="derive the equations of motion of a system",
+        description="Derive the equations of motion from the Lagrangian, linearise them "
+                    "and bring them to canonical form (Mathieu/Hill or Bessel).")
+    systems = p.add_subparsers(dest="system", metavar="SYSTEM")
+    systems.required = True
+    k = systems.add_parser(
+        "kapitza", help="rigid body on a vertically driven pivot (000)",
+        description="Rigid body on a vertically driven pivot (000_8cba66c4fdf94ac6.txt).",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    k.add_argument("--body", choices=("rod", "point", "explicit"), default="rod",
+                   help="rod: I = 4 m l^2/3; point: I = m l^2; explicit: I from --inertia")
+    k.add_argument("--inertia", metavar="EXPR", help="moment of inertia about the pivot "
+                   "(with --body explicit; default the symbol I)")
+    k.add_argument("--drive", metavar="EXPR", default="a*cos(omega*t)", help="pivot height y0(t)")
+    k.add_argument("--angle", choices=("up", "down"), default="up",
+                   help="measure theta from the upward (source) or downward vertical")
+    _formats(k)
+    k.set_defaults(func=run)
+    v = systems.add_parser(
+        "variable-length", help="point mass on a string of length L(t) (002)",
+        description="Point mass on a string of varying length (002_19b336b29bb1f03b.txt).",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    v.add_argument("--length", metavar="EXPR", default="L0 + v0*t", help="string length L(t)")
+    v.add_argument("--mass", metavar="EXPR", default="m", help="the mass")
+    _formats(v)
+    v.set_defaults(func=run)
+    return p
+
+
+def _formats(p):
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--json", action="store_true", help="print the JSON record")
+    g.add_argument("--latex", action="store_true", help="print a LaTeX fragment")
+
+
+def run(args):
+    import sys
+    from pendulab.scene import parse_scene
+    from pendulab.pipeline import Context
+    from pendulab.products import equations as product
+    from pendulab.io import canonical_json
+
+    params = {}
+    if args.system == "kapitza":
+        params = {"body": args.body, "drive": args.drive, "angle": args.angle}
+        if args.inertia is not None:
+            params["inertia"] = args.inertia
+    else:
+        params = {"length": args.length, "mass": args.mass}
+    scene = parse_scene({"name": args.system, "system": args.system, "parameters": params,
+                         "products": {"equations": {}}}, path="command line")
+    ctx = Context(scene)
+    if args.latex:
+        sys.stdout.write(product.latex_fragment(ctx, "command line"))
+        return 0
+    doc = product.document(ctx)
+    if args.json:
+        sys.stdout.write(canonical_json(doc))
+        return 0
+    for key, value in doc.items():
+        if isinstance(value, dict):
+            print(f"{key}:")
+            for k2, v2 in value.items():
+                print(f"  {k2}: {v2}")
+        else:
+            print(f"{key}: {value}")
+    return 0

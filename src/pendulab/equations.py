@@ -1,0 +1,121 @@
+"""Stage 2 (equations): Euler-Lagrange equations, normalised and linearised.
+
+:func:`derive` takes a system from :mod:`pendulab.systems` and returns an
+:class:`Equations` record.  Every expression is the left-hand side of
+``expr = 0``.
+"""
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from pendulab import symbols as S
+from pendulab.systems import DrivenPivot, VariableLength
+from pendulab.errors import InputError
+
+
+def euler_lagrange(lagrangian, coordinate, time=S.t):
+    """d/dt (dL/dq') - dL/dq for one coordinate q(t) (the Euler-Lagrange expression)."""
+    qdot = coordinate.diff(time)
+    return sp.expand(sp.diff(lagrangian, qdot).diff(time) - sp.diff(lagrangian, coordinate))
+
+
+def linearise(expr, coordinate, about, time=S.t):
+    """First-order part of ``expr`` in the deviation of ``coordinate`` from ``about``.
+
+    ``coordinate`` -> ``about + eps*u`` and the eps-derivative at eps = 0 is
+    taken; the deviation u is written back as the coordinate's own name, so
+    the result reads as an equation for the small deviation.
+    """
+    eps = sp.Dummy("eps")
+    u = sp.Function("u")(time)
+    shifted = expr.subs(coordinate, about + eps * u).doit()
+    first = sp.diff(shifted, eps).subs(eps, 0).doit()
+    return sp.expand(first.subs(u, coordinate).doit())
+
+
+def normalise(expr, coordinate, time=S.t):
+    """Divide ``expr`` by the coefficient of the coordinate's second derivative."""
+    acc = coordinate.diff(time, 2)
+    coeff = sp.expand(expr).coeff(acc)
+    if coeff == 0:
+        raise InputError("the equation has no second derivative of the coordinate")
+    return sp.expand(sp.simplify(expr / coeff))
+
+
+@dataclass(frozen=True)
+class Equations:
+    """The equations of motion of a system (each entry: left side of ``= 0``).
+
+    * ``lagrangian`` - T - V;
+    * ``euler_lagrange`` - d/dt dL/dq' - dL/dq as SymPy forms it;
+    * ``source_form`` - the source's grouping: (I/(m l)) theta'' - (y0'' + g)
+      sin theta (000, before eq. 3) or L theta'' + 2 L' theta' + g sin theta
+      (002 eq. 3, with L = L(t));
+    * ``eom`` - for the driven pivot normalised (theta'' has coefficient 1)
+      with omega0^2 = m g l/I introduced (000 eq. 3); for the variable length
+      the source form with the scene's L(t) written out;
+    * ``linear`` - linearised about the inverted position (000 eq. 4) or about
+      the hanging rest position (002 eq. 4);
+    * ``newton`` - variable length only: the source's Newton projection
+      (002 eqs. 1-2), for comparison.
+    """
+
+    system: object
+    lagrangian: sp.Expr
+    euler_lagrange: sp.Expr
+    source_form: sp.Expr
+    eom: sp.Expr
+    linear: sp.Expr
+    linear_about: sp.Expr
+    newton: sp.Expr = None
+
+
+def _derive_driven_pivot(system):
+    th = system.coordinate
+    lag = system.lagrangian
+    el = euler_lagrange(lag, th)
+    source_form = sp.expand(el / (S.m * S.l))
+    # 000 eq. 3: normalise and trade g for omega0^2 = m g l / I.
+    eom = normalise(el, th)
+    eom = sp.expand(eom.subs(S.g, S.omega0**2 * S.I / (S.m * S.l)))
+    eom = sp.collect(eom, sp.sin(th))
+    about = system.inverted_position
+    linear = linearise(eom, th, about)
+    linear = sp.collect(linear, th)
+    return Equations(system, lag, el, source_form, eom, linear, about)
+
+
+def newton_projection(mass=S.m):
+    """The source's Newton route for the variable length (002 eqs. 1-2).
+
+    Differentiates the position twice (002 eq. 1) and projects m a - P on the
+    unit vector (cos theta, -sin theta) normal to the string (002 eq. 2),
+    divided by m: x'' cos theta - y'' sin theta + g sin theta.
+    """
+    th = S.theta(S.t)
+    ell = S.L(S.t)
+    x, y = ell * sp.sin(th), ell * sp.cos(th)
+    ax, ay = x.diff(S.t, 2), y.diff(S.t, 2)
+    return sp.simplify(ax * sp.cos(th) - ay * sp.sin(th) + S.g * sp.sin(th))
+
+
+def _derive_variable_length(system):
+    th = system.coordinate
+    lag = system.lagrangian
+    el = euler_lagrange(lag, th)
+    ell = S.L(S.t)
+    source_form = sp.expand(sp.simplify(el / (system.mass * ell)))
+    eom = sp.expand(source_form.subs(ell, system.length).doit())
+    linear = sp.expand(linearise(source_form, th, 0))
+    return Equations(system, lag, el, source_form, eom, linear, sp.Integer(0),
+                     newton=sp.expand(newton_projection()))
+
+
+def derive(system):
+    """Euler-Lagrange equations of ``system`` (a DrivenPivot or VariableLength)."""
+    if isinstance(system, DrivenPivot):
+        return _derive_driven_pivot(system)
+    if isinstance(system, VariableLength):
+        return _derive_variable_length(system)
+    raise InputError(f"unknown system {system!r}")

@@ -1,0 +1,111 @@
+"""The build pipeline: stages computed lazily, products asked for by name.
+
+A scene names products; each product module (``pendulab.products.<name>``)
+asks the :class:`Context` for the stages it needs with ``ctx.get(name)``.  A
+stage runs at most once per build and only when some product asks for it, so
+a scene that wants only the equations never imports the series or Floquet
+code.  ``ctx.ran`` records which stages ran (tests use it).
+
+Stages (ARCHITECTURE.md): system -> equations -> canonical -> closed_form.
+Analyses that are not part of a scene's equations (series, Floquet,
+averaging) are called by their products directly.
+"""
+
+import importlib
+
+from pendulab.errors import InputError
+
+#: product name -> module that defines OPTIONS, SYSTEMS and produce(ctx, options)
+PRODUCTS = {
+    "equations": "pendulab.products.equations",
+    "series": "pendulab.products.series",
+    "floquet": "pendulab.products.floquet",
+    "stability": "pendulab.products.stability",
+}
+
+
+def product_module(name):
+    """Import the module of product ``name`` (only when the product is used)."""
+    if name not in PRODUCTS:
+        raise InputError(f"unknown product {name!r} (known: {', '.join(sorted(PRODUCTS))})")
+    return importlib.import_module(PRODUCTS[name])
+
+
+def _stage_system(ctx):
+    from pendulab.systems import DrivenPivot, VariableLength
+    p = dict(ctx.scene.parameters)
+    if ctx.scene.system == "kapitza":
+        kwargs = {"body": p.get("body", "rod"), "angle": p.get("angle", "up")}
+        if "drive" in p:
+            kwargs["drive"] = p["drive"]
+        if "inertia" in p:
+            kwargs["inertia_value"] = p["inertia"]
+        return DrivenPivot(**kwargs)
+    kwargs = {}
+    if "length" in p:
+        kwargs["length"] = p["length"]
+    if "mass" in p:
+        kwargs["mass"] = p["mass"]
+    return VariableLength(**kwargs)
+
+
+def _stage_equations(ctx):
+    from pendulab.equations import derive
+    return derive(ctx.get("system"))
+
+
+def _stage_canonical(ctx):
+    from pendulab import canonical
+    eqs = ctx.get("equations")
+    if ctx.scene.system == "kapitza":
+        return canonical.periodic_form(eqs)
+    return canonical.length_form(eqs)
+
+
+def _stage_closed_form(ctx):
+    if ctx.scene.system != "variable-length":
+        return None
+    form = ctx.get("canonical")
+    if form is None or form.alpha is None:
+        return None
+    from pendulab.analyses.bessel import closed_form
+    return closed_form(form, ctx.get("system").length)
+
+
+STAGES = {
+    "system": _stage_system,
+    "equations": _stage_equations,
+    "canonical": _stage_canonical,
+    "closed_form": _stage_closed_form,
+}
+
+
+class Context:
+    """Lazily computed stages of one scene."""
+
+    def __init__(self, scene):
+        self.scene = scene
+        self._values = {}
+        self.ran = []
+
+    def get(self, name):
+        if name not in STAGES:
+            raise InputError(f"unknown stage {name!r}")
+        if name not in self._values:
+            self._values[name] = STAGES[name](self)
+            self.ran.append(name)
+        return self._values[name]
+
+
+def run_products(scene):
+    """Compute every product ``scene`` asks for; return ({file: text}, context)."""
+    ctx = Context(scene)
+    files = {}
+    for name in sorted(scene.products):
+        module = product_module(name)
+        produced = module.produce(ctx, scene.products[name])
+        for fname, text in produced.items():
+            if fname in files or fname == "manifest.json":
+                raise InputError(f"product {name!r} writes {fname!r}, which another product writes")
+            files[fname] = text
+    return files, ctx

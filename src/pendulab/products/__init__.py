@@ -1,0 +1,1 @@
+"""Products: what a scene can ask for.  Each module defines OPTIONS, SYSTEMS and produce()."""

@@ -1,0 +1,227 @@
+"""Scene files: what to derive and what to produce (TOML, in derivations/).
+
+A scene is data, never code::
+
+    name = "kapitza-rod"             # optional; default: the file name
+    system = "kapitza"               # or "variable-length"
+    description = "..."              # optional
+
+    [parameters]                     # all optional
+    body = "rod"                     # kapitza: rod | point | explicit
+    inertia = "m*l**2 + I0"          # kapitza, body = "explicit" only
+    drive = "a*cos(omega*t)"         # kapitza: pivot height y0(t)
+    angle = "up"                     # kapitza: up | down
+    # length = "L0 + v0*t"           # variable-length: L(t)
+    # mass = "m"                     # variable-length
+
+    [products.equations]             # one table per product; keys are its options
+
+Every problem found is reported at once, one per line, each naming the file
+and the key (:class:`pendulab.errors.SceneError`).  Expressions are parsed by
+:func:`pendulab.exprs.parse`, which executes nothing.
+"""
+
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from pendulab.errors import InputError, SceneError
+
+SYSTEMS = ("kapitza", "variable-length")
+TOP_KEYS = {"name", "system", "description", "parameters", "products"}
+PARAMETERS = {
+    "kapitza": {"body": "choice:rod,point,explicit", "inertia": "expr",
+                "drive": "expr", "angle": "choice:up,down"},
+    "variable-length": {"length": "expr", "mass": "expr"},
+}
+_SCENE_NAME = re.compile(r"[a-z0-9][a-z0-9_-]{0,63}\Z")
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene.  ``parameters`` hold SymPy objects or strings."""
+
+    path: str
+    name: str
+    system: str
+    description: str = ""
+    parameters: dict = field(default_factory=dict)
+    products: dict = field(default_factory=dict)
+    raw: dict = field(default_factory=dict)
+
+
+class _Problems:
+    def __init__(self, path):
+        self.path = path
+        self.items = []
+
+    def add(self, key, problem):
+        self.items.append(SceneError(self.path, key, problem))
+
+    def raise_if_any(self):
+        if len(self.items) == 1:
+            raise self.items[0]
+        if self.items:
+            err = SceneError(self.path, None, f"{len(self.items)} problems")
+            err.args = ("\n".join(str(e) for e in self.items),)
+            err.problems = self.items
+            raise err
+
+
+def _option_value(kind, value):
+    """Check one product option against its declared type; return the value."""
+    if kind is bool:
+        if not isinstance(value, bool):
+            raise TypeError("must be true or false")
+        return value
+    if kind is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise TypeError("must be an integer")
+        return value
+    if kind is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise TypeError("must be a number")
+        return value
+    if kind is str:
+        if not isinstance(value, str):
+            raise TypeError("must be a string")
+        return value
+    if kind is list:
+        if not isinstance(value, list):
+            raise TypeError("must be a list")
+        return value
+    if callable(kind):
+        return kind(value)
+    raise TypeError(f"unsupported option type {kind!r}")
+
+
+def validate_options(module, given, where, problems):
+    """Fill defaults, check types; options with default ``None`` are required."""
+    spec = getattr(module, "OPTIONS", {})
+    options = {}
+    for key in sorted(set(given) - set(spec)):
+        problems.add(f"{where}.{key}", f"unknown option (known: {', '.join(sorted(spec)) or 'none'})")
+    for key, (kind, default, _help) in sorted(spec.items()):
+        if key in given:
+            try:
+                options[key] = _option_value(kind, given[key])
+            except (TypeError, ValueError) as exc:
+                problems.add(f"{where}.{key}", str(exc))
+        elif default is None:
+            problems.add(f"{where}.{key}", "missing (this product needs it)")
+        else:
+            options[key] = default
+    return options
+
+
+def parse_scene(data, path="<scene>"):
+    """Validate the TOML table ``data`` of a scene read from ``path``."""
+    from pendulab.exprs import parse
+    from pendulab.pipeline import PRODUCTS, product_module
+
+    problems = _Problems(path)
+    if not isinstance(data, dict):
+        raise SceneError(path, None, "a scene is a TOML table")
+    for key in sorted(set(data) - TOP_KEYS):
+        problems.add(key, f"unknown key (known: {', '.join(sorted(TOP_KEYS))})")
+    system = data.get("system")
+    if system is None:
+        problems.add("system", f"missing (one of {', '.join(SYSTEMS)})")
+    elif system not in SYSTEMS:
+        problems.add("system", f"must be one of {', '.join(SYSTEMS)}; got {system!r}")
+    name = data.get("name", Path(path).stem)
+    if not isinstance(name, str) or not _SCENE_NAME.match(name):
+        problems.add("name", "must be 1-64 characters of a-z, 0-9, '-' and '_', starting "
+                             f"with a letter or digit; got {name!r}")
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        problems.add("description", "must be a string")
+
+    params = data.get("parameters", {})
+    parsed = {}
+    if not isinstance(params, dict):
+        problems.add("parameters", "must be a table")
+        params = {}
+    allowed = PARAMETERS.get(system, {})
+    for key, value in sorted(params.items()):
+        where = f"parameters.{key}"
+        if system in PARAMETERS and key not in allowed:
+            problems.add(where, f"unknown parameter for {system} (known: {', '.join(sorted(allowed))})")
+            continue
+        kind = allowed.get(key, "")
+        if kind.startswith("choice:"):
+            choices = kind.split(":", 1)[1].split(",")
+            if value not in choices:
+                problems.add(where, f"must be one of {', '.join(choices)}; got {value!r}")
+            else:
+                parsed[key] = value
+        elif kind == "expr":
+            if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+                problems.add(where, "must be an expression (a string) or a number")
+                continue
+            try:
+                parsed[key] = parse(str(value))
+            except InputError as exc:
+                problems.add(where, str(exc))
+    if system == "kapitza":
+        if "inertia" in parsed and parsed.get("body", "rod") != "explicit":
+            problems.add("parameters.inertia", "given, but body is not 'explicit'")
+    if system in PARAMETERS and not problems.items:
+        # Let the system itself judge the values (positivity, time dependence ...).
+        from pendulab.pipeline import _stage_system
+
+        class _Probe:
+            pass
+        probe = _Probe()
+        probe.scene = Scene(str(path), name, system, description, parsed, {}, data)
+        try:
+            _stage_system(probe)
+        except InputError as exc:
+            problems.add("parameters", str(exc))
+
+    products = data.get("products")
+    chosen = {}
+    if products is None:
+        problems.add("products", "missing: name at least one product, e.g. [products.equations]")
+    elif not isinstance(products, dict) or not products:
+        problems.add("products", "must be a table of product tables, e.g. [products.equations]")
+    else:
+        for pname, given in sorted(products.items()):
+            where = f"products.{pname}"
+            if pname not in PRODUCTS:
+                problems.add(where, f"unknown product (known: {', '.join(sorted(PRODUCTS))})")
+                continue
+            if given is True:
+                given = {}
+            if not isinstance(given, dict):
+                problems.add(where, "must be a table of options (or true)")
+                continue
+            try:
+                module = product_module(pname)
+            except ImportError:
+                problems.add(where, "this product is not available in this version")
+                continue
+            systems = getattr(module, "SYSTEMS", SYSTEMS)
+            if system in SYSTEMS and system not in systems:
+                problems.add(where, f"not available for system {system!r}")
+                continue
+            chosen[pname] = validate_options(module, given, where, problems)
+    problems.raise_if_any()
+    return Scene(str(path), name, system, description, parsed, chosen, data)
+
+
+def load_scene(path):
+    """Read and validate the scene file at ``path``."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SceneError(path, None, "no such scene file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SceneError(path, None, f"cannot read: {exc}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(path, None, f"not valid TOML: {exc}") from None
+    return parse_scene(data, path)

@@ -1,0 +1,245 @@
+"""Stage 1 (system): the two pendulums as Lagrangians and their symbols.
+
+Nothing here solves anything: a system knows its coordinates, its kinetic
+and potential energies and its parameters.  :mod:`pendulab.equations` takes
+it from there.
+
+Driven pivot (000_8cba66c4fdf94ac6.txt, sec. 2.1): a rigid body of mass m,
+centre of mass at distance l from a pivot that moves vertically as y0(t);
+moment of inertia I about the pivot (I = m l^2 + I0, 000 after eq. 2).  The
+angle is measured from the upward vertical as in the source (000 Fig. 1), or
+from the downward vertical on request.
+
+Variable length (002_19b336b29bb1f03b.txt): a point mass m on a string of
+length L(t), angle from the downward vertical (002, "Dedução").
+"""
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from pendulab import symbols as S
+from pendulab.errors import InputError
+
+#: Bodies and their moment of inertia about the pivot, in terms of m and l
+#: (l is the pivot-to-centre-of-mass distance).  A uniform rod of length
+#: 2l pivoted at one end: I = m (2l)^2 / 3 = 4 m l^2 / 3 (000: l = L/2,
+#: I0 = m L^2 / 12).  A point mass: I = m l^2.
+BODIES = {
+    "rod": sp.Rational(4, 3) * S.m * S.l**2,
+    "point": S.m * S.l**2,
+}
+
+ANGLE_ORIGINS = ("up", "down")
+
+
+def _free_functions(expr):
+    return {f for f in expr.atoms(sp.core.function.AppliedUndef)}
+
+
+def _check_time_expression(expr, what, allowed_functions=()):
+    """Refuse expressions with unknown functions or that depend on the coordinate."""
+    bad = [f for f in _free_functions(expr) if f.func not in allowed_functions]
+    if bad:
+        raise InputError(f"{what} may not contain the function {bad[0]}")
+    if expr.has(S.tau):
+        raise InputError(f"{what} must be written in t, not tau")
+
+
+def _positive_or_symbolic(value, what):
+    """Refuse a number that is not positive; keep symbols (assumed positive)."""
+    value = sp.sympify(value)
+    if value.is_number:
+        if not value.is_real or not value.is_positive:
+            raise InputError(f"{what} must be positive, got {value}")
+    elif value.is_positive is False or value.is_nonpositive:
+        raise InputError(f"{what} must be positive, got {value}")
+    return value
+
+
+@dataclass(frozen=True)
+class DrivenPivot:
+    """A rigid body on a vertically driven pivot (000 sec. 2.1).
+
+    Parameters
+    ----------
+    body : {"rod", "point", "explicit"}
+        ``rod``: I = 4 m l^2/3; ``point``: I = m l^2; ``explicit``: I is
+        ``inertia`` (default the symbol I).
+    drive : sympy expression in t
+        Pivot height y0(t); default a cos(omega t) (000 eq. 1).
+    angle : {"up", "down"}
+        Measure theta from the upward vertical (the source's choice) or from
+        the downward one.
+    inertia : sympy expression, optional
+        Moment of inertia about the pivot for ``body="explicit"``.  A number
+        or expression in m, l, I0 ...; must be positive.
+
+    The equations are derived with the moment of inertia kept as the symbol I
+    (as the source writes them); :attr:`inertia` is the body's value of I,
+    substituted where a product asks for it.
+    """
+
+    body: str = "rod"
+    drive: sp.Expr = field(default_factory=lambda: S.a * sp.cos(S.omega * S.t))
+    angle: str = "up"
+    inertia_value: sp.Expr = None
+
+    name = "kapitza"
+
+    def __post_init__(self):
+        problems = []
+        if self.body not in (*BODIES, "explicit"):
+            problems.append(f"body must be one of rod, point, explicit; got {self.body!r}")
+        if self.angle not in ANGLE_ORIGINS:
+            problems.append(f"angle must be 'up' or 'down'; got {self.angle!r}")
+        if self.body != "explicit" and self.inertia_value is not None:
+            problems.append(f"inertia is given but body is {self.body!r} (use body='explicit')")
+        drive = sp.sympify(self.drive)
+        try:
+            _check_time_expression(drive, "drive")
+        except InputError as exc:
+            problems.append(str(exc))
+        if drive.has(S.theta(S.t)):
+            problems.append("drive may not depend on theta")
+        if self.inertia_value is not None:
+            try:
+                _positive_or_symbolic(self.inertia_value, "inertia")
+            except InputError as exc:
+                problems.append(str(exc))
+            if sp.sympify(self.inertia_value).has(S.t):
+                problems.append("inertia may not depend on t")
+        if problems:
+            raise InputError("; ".join(problems))
+        object.__setattr__(self, "drive", drive)
+
+    # -- parameters ---------------------------------------------------------
+    @property
+    def coordinate(self):
+        """The generalised coordinate theta(t)."""
+        return S.theta(S.t)
+
+    @property
+    def inertia(self):
+        """The body's moment of inertia about the pivot (an expression)."""
+        if self.body == "explicit":
+            return S.I if self.inertia_value is None else sp.sympify(self.inertia_value)
+        return BODIES[self.body]
+
+    @property
+    def inertia_ratio(self):
+        """I / (m l^2): 4/3 for a rod, 1 for a point mass."""
+        return sp.simplify(self.inertia / (S.m * S.l**2))
+
+    # -- mechanics ------------------------------------------------------------
+    @property
+    def centre_of_mass(self):
+        """(x, y) of the centre of mass (000, lines after eq. 2)."""
+        th = self.coordinate
+        sign = 1 if self.angle == "up" else -1
+        return S.l * sp.sin(th), self.drive + sign * S.l * sp.cos(th)
+
+    @property
+    def kinetic_energy(self):
+        """T = m (x'^2 + y'^2)/2 + I0 theta'^2/2 with I0 = I - m l^2 (000 eq. 2)."""
+        x, y = self.centre_of_mass
+        th = self.coordinate
+        i_cm = S.I - S.m * S.l**2
+        return (S.m * (x.diff(S.t)**2 + y.diff(S.t)**2) / 2
+                + i_cm * th.diff(S.t)**2 / 2)
+
+    @property
+    def potential_energy(self):
+        """V = m g y (000, before the Lagrangian)."""
+        return S.m * S.g * self.centre_of_mass[1]
+
+    @property
+    def lagrangian(self):
+        """L = T - V, simplified (000, the Lagrangian after eq. 2)."""
+        return sp.expand(sp.trigsimp(sp.expand(self.kinetic_energy - self.potential_energy)))
+
+    @property
+    def inverted_position(self):
+        """The value of theta at the inverted (upright) position."""
+        return sp.Integer(0) if self.angle == "up" else sp.pi
+
+    def describe(self):
+        return {
+            "system": self.name,
+            "body": self.body,
+            "angle_from": self.angle,
+            "drive": self.drive,
+            "I": self.inertia,
+            "I_over_ml2": self.inertia_ratio,
+        }
+
+
+@dataclass(frozen=True)
+class VariableLength:
+    """A point mass on a string of length L(t) (002).
+
+    Parameters
+    ----------
+    length : sympy expression in t
+        L(t); default L0 + v0 t (002, "Resolução").  Numbers in it must keep
+        it positive at t = 0.
+    mass : sympy expression
+        The mass (the source takes m = 1; it cancels from the equation).
+
+    The angle is measured from the downward vertical with the y axis pointing
+    down (002, "Dedução").
+    """
+
+    length: sp.Expr = field(default_factory=lambda: S.L0 + S.v0 * S.t)
+    mass: sp.Expr = S.m
+
+    name = "variable-length"
+
+    def __post_init__(self):
+        length = sp.sympify(self.length)
+        _check_time_expression(length, "length")
+        if length.has(S.theta(S.t)):
+            raise InputError("length may not depend on theta")
+        at0 = length.subs(S.t, 0)
+        if at0.is_number and not at0.is_positive:
+            raise InputError(f"length must be positive at t = 0, got {at0}")
+        if at0.is_nonpositive:
+            raise InputError(f"length must be positive at t = 0, got {at0}")
+        _positive_or_symbolic(self.mass, "mass")
+        object.__setattr__(self, "length", length)
+        object.__setattr__(self, "mass", sp.sympify(self.mass))
+
+    @property
+    def coordinate(self):
+        return S.theta(S.t)
+
+    @property
+    def position(self):
+        """(x, y) of the mass, y pointing down (002, "posição")."""
+        th = self.coordinate
+        ell = S.L(S.t)
+        return ell * sp.sin(th), ell * sp.cos(th)
+
+    @property
+    def kinetic_energy(self):
+        x, y = self.position
+        return self.mass * (x.diff(S.t)**2 + y.diff(S.t)**2) / 2
+
+    @property
+    def potential_energy(self):
+        """V = -m g y (y points down)."""
+        return -self.mass * S.g * self.position[1]
+
+    @property
+    def lagrangian(self):
+        """L = T - V with the length kept as the function L(t)."""
+        return sp.expand(sp.trigsimp(sp.expand(self.kinetic_energy - self.potential_energy)))
+
+    @property
+    def is_linear_length(self):
+        """True when L(t) = c0 + c1 t with c1 != 0 (the source's case)."""
+        p = sp.Poly(self.length, S.t) if self.length.is_polynomial(S.t) else None
+        return p is not None and p.degree() == 1
+
+    def describe(self):
+        return {"system": self.name, "length": self.length, "mass": self.mass}
