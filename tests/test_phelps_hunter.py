@@ -114,29 +114,50 @@ def test_lambda_polynomial_depth_1_is_C0_C1_Cm1_form():
     assert ratio.is_number and ratio != 0
 
 
-def _exponent_from_polynomial(theta0, theta1, depth=8):
-    poly = ph.lambda_polynomial(depth).as_expr().subs({S.theta0: theta0, S.theta1: theta1})
-    coeffs = [complex(c) for c in sp.Poly(poly, lam).all_coeffs()]
-    roots = np.roots(coeffs)
-    real = [z.real for z in roots if abs(z.imag) < 1e-9 and 0 <= z.real <= 1]
-    assert real, "no real root in [0, 1]"
-    return min(real)
-
-
-@pytest.mark.parametrize("theta0, theta1", [(0.3, 0.2), (0.1, 0.35), (0.55, 0.1)])
-def test_exponent_three_ways(theta0, theta1):
-    # (a) root of the derived polynomial (continued fractions, depth 8);
-    # (b) Hill's relation with the derived matrix, 41 rows, mpmath at 30 digits;
-    # (c) the monodromy matrix by scipy's integrator (fully independent).
-    lam_a = _exponent_from_polynomial(theta0, theta1)
+def _exponent_from_continued_fraction(theta0, theta1, depth=6):
+    """Root in (0, 1) of the derived lam equation (continued fractions, depth 6), 30 digits."""
+    eq = ph.lambda_equation(depth).subs({S.theta0: sp.Rational(theta0), S.theta1: sp.Rational(theta1)})
+    f = sp.lambdify(lam, eq, "mpmath")
     with mpmath.workdps(30):
-        M = ph.hill_matrix(10, 0).subs({S.theta0: theta0, S.theta1: theta1})
-        delta0 = mpmath.det(mpmath.matrix(M.tolist()))
-        s2 = delta0 * mpmath.sin(mpmath.pi * mpmath.sqrt(theta0) / 2) ** 2
-        lam_b = float(2 * mpmath.asin(mpmath.sqrt(s2)) / mpmath.pi)
-    lam_c = math.acos(trace_monodromy(theta0, theta1) / 2) / math.pi
-    assert abs(lam_a - lam_b) < 1e-10
-    assert abs(lam_a - lam_c) < 1e-8
+        return float(mpmath.findroot(f, 0.5))
+
+
+def _exponent_from_hill(theta0, theta1, rows=2000):
+    """Hill's relation with Delta(0) as a continuant of the derived entries theta1/C_n(0).
+
+    The truncation error of Delta(0) falls like 1/N^3 (the entries fall like
+    1/n^2), hence the many rows; the entries come from the derived matrix.
+    """
+    entry = ph.hill_matrix(1, 0)[1, 2]  # row n = 0, column n = 1: theta1/C_0(0)
+    assert sp.simplify(entry - S.theta1 / S.theta0) == 0
+    with mpmath.workdps(30):
+        th0, th1 = mpmath.mpf(theta0), mpmath.mpf(theta1)
+        e = [th1 / (th0 - 4 * k * k) for k in range(-rows, rows + 1)]
+        d_prev, d = mpmath.mpf(1), mpmath.mpf(1)
+        for i in range(1, len(e)):
+            d_prev, d = d, d - e[i - 1] * e[i] * d_prev
+        s2 = d * mpmath.sin(mpmath.pi * mpmath.sqrt(th0) / 2) ** 2
+        return float(2 * mpmath.asin(mpmath.sqrt(s2)) / mpmath.pi)
+
+
+@pytest.mark.parametrize("theta0, theta1", [("0.3", "0.2"), ("0.1", "0.35"), ("0.55", "0.1")])
+def test_exponent_three_ways(theta0, theta1):
+    # (a) root of the derived equation for lam (continued fractions);
+    # (b) Hill's relation sin^2(pi lam/2) = Delta(0) sin^2(pi sqrt(theta0)/2);
+    # (c) the monodromy matrix by scipy's integrator (fully independent).
+    lam_a = _exponent_from_continued_fraction(theta0, theta1)
+    lam_b = _exponent_from_hill(theta0, theta1)
+    lam_c = math.acos(trace_monodromy(float(theta0), float(theta1)) / 2) / math.pi
+    assert abs(lam_a - lam_c) < 1e-9
+    assert abs(lam_b - lam_c) < 1e-9
+
+
+def test_first_approximation_is_not_exact():
+    # The depth-1 (degree-6) equation is an approximation: its root differs
+    # from the exact exponent by more than the tolerance above (the test can fail).
+    lam_1 = _exponent_from_continued_fraction("0.1", "0.35", depth=1)
+    lam_c = math.acos(trace_monodromy(0.1, 0.35) / 2) / math.pi
+    assert abs(lam_1 - lam_c) > 1e-6
 
 
 # -- 000 eq. 11 -----------------------------------------------------------------
@@ -218,8 +239,8 @@ def test_lower_limit_slope_is_eq_12_lower_bound():
 # -- bad input ----------------------------------------------------------------------
 
 @pytest.mark.parametrize("call, message", [
-    (lambda: ph.continued_fraction(0, 2), "n_sign must be +1 or -1"),
-    (lambda: ph.continued_fraction(True, 2), "n_sign must be +1 or -1"),
+    (lambda: ph.continued_fraction(0, 2), "n_sign must be \\+1 or -1"),
+    (lambda: ph.continued_fraction(True, 2), "n_sign must be \\+1 or -1"),
     (lambda: ph.continued_fraction(1, 0), "depth must be between 1"),
     (lambda: ph.continued_fraction(1, 2.0), "depth must be an integer"),
     (lambda: ph.lambda_polynomial(99), "depth must be between 1"),

@@ -139,7 +139,6 @@ def _row(k):
     return row.coeff(b[k - 1]) * b[k - 1] + C(k) * b[k] + row.coeff(b[k + 1]) * b[k + 1]
 
 
-@functools.lru_cache(maxsize=None)
 def continued_fraction(n_sign, depth):
     """b_{+-1}/b_0 as the continued fraction truncated at depth N (000, after eq. 10).
 
@@ -151,9 +150,14 @@ def continued_fraction(n_sign, depth):
     >>> continued_fraction(1, 2)
     -theta1/(theta0 - theta1**2/(theta0 - (lam + 4)**2) - (lam + 2)**2)
     """
-    if n_sign not in (1, -1) or isinstance(n_sign, bool):
+    if isinstance(n_sign, bool) or not isinstance(n_sign, int) or n_sign not in (1, -1):
         raise InputError(f"n_sign must be +1 or -1, got {n_sign!r}")
     _check_depth(depth)
+    return _continued_fraction(n_sign, depth)
+
+
+@functools.lru_cache(maxsize=None)
+def _continued_fraction(n_sign, depth):
     ratio = sp.Integer(0)  # b_{+-(N+1)} / b_{+-N}: neglected (000, after eq. 10)
     for k in range(depth, 0, -1):
         idx = n_sign * k
@@ -171,7 +175,6 @@ def continued_fraction(n_sign, depth):
     return ratio
 
 
-@functools.lru_cache(maxsize=None)
 def lambda_equation(depth):
     """The n = 0 row divided by b_0, with b_{+-1} = (continued fraction) b_0.
 
@@ -179,6 +182,11 @@ def lambda_equation(depth):
     equation in lam, theta0 and theta1 alone (000, text after eq. 10).
     """
     _check_depth(depth)
+    return _lambda_equation(depth)
+
+
+@functools.lru_cache(maxsize=None)
+def _lambda_equation(depth):
     row = _row(0).subs({b[1]: continued_fraction(1, depth) * b[0],
                         b[-1]: continued_fraction(-1, depth) * b[0]})
     equation = sp.expand(row / b[0])
@@ -187,7 +195,6 @@ def lambda_equation(depth):
     return equation
 
 
-@functools.lru_cache(maxsize=None)
 def lambda_polynomial(depth):
     """The equation for lam at depth N with denominators cleared, as a ``sympy.Poly`` in lam.
 
@@ -197,7 +204,13 @@ def lambda_polynomial(depth):
     >>> lambda_polynomial(1).degree()
     6
     """
-    numerator, _ = sp.fraction(sp.together(lambda_equation(depth)))
+    _check_depth(depth)
+    return _lambda_polynomial(depth)
+
+
+@functools.lru_cache(maxsize=None)
+def _lambda_polynomial(depth):
+    numerator, _ = sp.fraction(sp.together(_lambda_equation(depth)))
     return sp.Poly(sp.expand(numerator), lam)
 
 
@@ -247,7 +260,6 @@ def to_dimensionless(expr):
     return sp.simplify(expr)
 
 
-@functools.lru_cache(maxsize=None)
 def small_parameter_exponent(mathieu=False, depth=1):
     """000 eq. 11: sin^2(pi lam/2) to first order in theta0 and theta1^2, derived.
 
@@ -262,6 +274,12 @@ def small_parameter_exponent(mathieu=False, depth=1):
     theta0 = -4 omega0^2/omega^2 and theta1 = 2 a l m/I (000 eqs. 5-6, read from
     the canonical stage).
     """
+    _check_depth(depth)
+    return _small_parameter_exponent(bool(mathieu), depth)
+
+
+@functools.lru_cache(maxsize=None)
+def _small_parameter_exponent(mathieu, depth):
     eps = sp.Symbol("eps", positive=True)
     delta0 = hill_matrix(depth, 0).det(method="berkowitz")
     half_angle = sp.sin(sp.pi * sp.sqrt(S.theta0) / 2) ** 2
@@ -299,7 +317,6 @@ def interval_eq12():
     return sp.simplify(lower), sp.simplify(upper)
 
 
-@functools.lru_cache(maxsize=None)
 def characteristic_a0_series(order):
     """a_0 as a power series in theta1 from the lam = 0 continued fraction, derived.
 
@@ -315,6 +332,11 @@ def characteristic_a0_series(order):
     """
     if isinstance(order, bool) or not isinstance(order, int) or not 1 <= order <= MAX_DEPTH - 1:
         raise InputError(f"order must be an integer between 1 and {MAX_DEPTH - 1}, got {order!r}")
+    return _characteristic_a0_series(order)
+
+
+@functools.lru_cache(maxsize=None)
+def _characteristic_a0_series(order):
     s = sp.Symbol("s")  # theta1^2
     poly = lambda_polynomial(order + 1).as_expr().subs(lam, 0)
     if poly.subs(S.theta1, sp.sqrt(s)).has(sp.sqrt(s)):  # pragma: no cover
@@ -330,7 +352,6 @@ def characteristic_a0_series(order):
     return sum(found[c] * S.theta1 ** (2 * (k + 1)) for k, c in enumerate(coeffs))
 
 
-@functools.lru_cache(maxsize=None)
 def lower_limit_small_ratio(order=2):
     """The exact lower limit of a/l for small omega0/omega, as a series, derived.
 
@@ -344,6 +365,11 @@ def lower_limit_small_ratio(order=2):
     sqrt(2)*inertia_ratio*w0_over_w
     """
     a0 = characteristic_a0_series(order)
+    return _lower_limit_small_ratio(order, a0)
+
+
+@functools.lru_cache(maxsize=None)
+def _lower_limit_small_ratio(order, a0):
     th0, th1 = _mathieu_parameters()
     th0 = to_dimensionless(th0)
     th1 = to_dimensionless(th1)
