@@ -146,7 +146,7 @@ class _Builder:
         if node.keywords:
             raise InputError("keyword arguments are not allowed in an expression")
         if not isinstance(node.func, ast.Name):
-            raise InputError(f"{_describe(node.func)} cannot be called")
+            raise InputError(f"{_describe(node.func)} is not allowed in an expression")
         name = node.func.id
         _check_name(name)
         args = [self.build(a, d) for a in node.args]

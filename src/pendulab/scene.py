@@ -128,8 +128,9 @@ def parse_scene(data, path="<scene>"):
     system = data.get("system")
     if system is None:
         problems.add("system", f"missing (one of {', '.join(SYSTEMS)})")
-    elif system not in SYSTEMS:
+    elif not isinstance(system, str) or system not in SYSTEMS:
         problems.add("system", f"must be one of {', '.join(SYSTEMS)}; got {system!r}")
+        system = None
     name = data.get("name", Path(path).stem)
     if not isinstance(name, str) or not _SCENE_NAME.match(name):
         problems.add("name", "must be 1-64 characters of a-z, 0-9, '-' and '_', starting "

@@ -37,11 +37,16 @@ def _free_functions(expr):
     return {f for f in expr.atoms(sp.core.function.AppliedUndef)}
 
 
-def _check_time_expression(expr, what, allowed_functions=()):
-    """Refuse expressions with unknown functions or that depend on the coordinate."""
-    bad = [f for f in _free_functions(expr) if f.func not in allowed_functions]
-    if bad:
-        raise InputError(f"{what} may not contain the function {bad[0]}")
+def _check_time_expression(expr, what):
+    """Refuse expressions that involve the coordinate or functions of other than t.
+
+    An undefined function of t alone (``y0(t)``) is allowed: the derivation
+    then holds for any such function.
+    """
+    for f in _free_functions(expr):
+        if f.func.__name__ in ("theta", "L") or f.args != (S.t,):
+            raise InputError(f"{what} may not contain {f}; functions must be of t alone "
+                             "and other than theta and L")
     if expr.has(S.tau):
         raise InputError(f"{what} must be written in t, not tau")
 

@@ -1,0 +1,232 @@
+"""Scenes, the lazy pipeline, atomic and reproducible builds, and the CLI."""
+
+import filecmp
+import json
+import os
+import subprocess
+import sys
+import types
+from pathlib import Path
+
+import pytest
+
+from pendulab import pipeline
+from pendulab.build import build
+from pendulab.cli import COMMANDS, main
+from pendulab.errors import SceneError
+from pendulab.scene import load_scene
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = ROOT / "derivations"
+
+
+def _write(tmp_path, text, name="scene.toml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+GOOD = """
+system = "kapitza"
+[parameters]
+body = "point"
+[products.equations]
+"""
+
+
+# -- bad input ----------------------------------------------------------------
+
+@pytest.mark.parametrize("text, key, fragment", [
+    ('system = "kapitza"\ncolour = 1\n[products.equations]\n', "colour", "unknown key"),
+    ('system = "sled"\n[products.equations]\n', "system", "must be one of"),
+    ('[products.equations]\n', "system", "missing"),
+    ('system = "kapitza"\n', "products", "missing"),
+    ('system = "kapitza"\n[products.nonsense]\n', "products.nonsense", "unknown product"),
+    ('system = "kapitza"\n[parameters]\nbody = 3\n[products.equations]\n', "parameters.body", "must be one of"),
+    ('system = "kapitza"\n[parameters]\ndrive = "a*cos(omega*t"\n[products.equations]\n',
+     "parameters.drive", "cannot parse"),
+    ('system = "kapitza"\n[parameters]\ndrive = "__import__(\'os\').system(\'true\')"\n[products.equations]\n',
+     "parameters.drive", "not allowed"),
+    ('system = "kapitza"\n[parameters]\nbody = "explicit"\ninertia = "-2"\n[products.equations]\n',
+     "parameters", "inertia must be positive"),
+    ('system = "variable-length"\n[parameters]\nlength = "-1"\n[products.equations]\n',
+     "parameters", "length must be positive"),
+    ('system = "variable-length"\n[parameters]\nmass = "0"\n[products.equations]\n',
+     "parameters", "mass must be positive"),
+    ('system = "variable-length"\n[parameters]\nbody = "rod"\n[products.equations]\n',
+     "parameters.body", "unknown parameter"),
+    ('system = "kapitza"\n[products.equations]\nfoo = 1\n', "products.equations.foo", "unknown option"),
+    ('system = "kapitza"\nname = "../escape"\n[products.equations]\n', "name", "must be"),
+    ('system = [1, 2]\n[products.equations]\n', "system", "must be one of"),
+    ('system = "kapitza"\n[parameters]\nangle = "left"\n[products.equations]\n', "parameters.angle", "must be one of"),
+    ('system = "kapitza\n', None, "not valid TOML"),
+])
+def test_bad_scenes_name_file_and_key(tmp_path, text, key, fragment):
+    path = _write(tmp_path, text)
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    msg = str(info.value)
+    assert str(path) in msg and fragment in msg
+    if key:
+        assert f": {key}:" in msg
+
+
+def test_all_problems_are_reported_at_once(tmp_path):
+    path = _write(tmp_path, 'system = "kapitza"\nfoo = 1\nbar = 2\n[parameters]\nangle = "x"\n'
+                            '[products.equations]\n')
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    lines = str(info.value).splitlines()
+    assert len(lines) == 3 and all(line.startswith(str(path)) for line in lines)
+
+
+def test_missing_product_option_is_named(tmp_path, monkeypatch):
+    """A product whose required option (default None) is absent is refused before any work."""
+    fake = types.ModuleType("pendulab_fake_product")
+    fake.OPTIONS = {"theta0": (float, None, "needed")}
+    fake.produce = lambda ctx, options: {"x.txt": "x\n"}
+    monkeypatch.setitem(sys.modules, "pendulab_fake_product", fake)
+    monkeypatch.setitem(pipeline.PRODUCTS, "fake", "pendulab_fake_product")
+    path = _write(tmp_path, 'system = "kapitza"\n[products.fake]\n')
+    with pytest.raises(SceneError, match="products.fake.theta0: missing"):
+        load_scene(path)
+    path = _write(tmp_path, 'system = "kapitza"\n[products.fake]\ntheta0 = "x"\n')
+    with pytest.raises(SceneError, match="products.fake.theta0: must be a number"):
+        load_scene(path)
+
+
+def test_cli_bad_scene_exits_2_with_one_line_and_writes_nothing(tmp_path, capsys):
+    path = _write(tmp_path, 'system = "kapitza"\n[parameters]\ndrive = "a.b"\n[products.equations]\n')
+    out = tmp_path / "out"
+    assert main(["build", str(path), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "parameters.drive" in err[0] and str(path) in err[0]
+    assert not out.exists()
+
+
+def test_cli_bad_derive_argument(capsys):
+    assert main(["derive", "kapitza", "--drive", "os.system('x')"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("pendulab: error:") and "\n" not in err
+
+
+def test_argparse_errors_exit_2():
+    with pytest.raises(SystemExit) as info:
+        main(["derive", "kapitza", "--body", "stone"])
+    assert info.value.code == 2
+
+
+# -- laziness -----------------------------------------------------------------
+
+def test_unrequested_stages_never_run(tmp_path):
+    """An equations-only scene runs system/equations/canonical and imports no analysis module."""
+    path = _write(tmp_path, GOOD)
+    code = (
+        "import sys, json\n"
+        "from pendulab.build import build\n"
+        f"build({str(path)!r}, out_root={str(tmp_path / 'out')!r}, log=lambda m: None)\n"
+        "mods = [m for m in sys.modules if m.startswith('pendulab.analyses')]\n"
+        "print(json.dumps(mods))\n"
+    )
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert json.loads(res.stdout.strip().splitlines()[-1]) == []
+
+
+def test_context_runs_only_what_is_asked(tmp_path):
+    scene = load_scene(_write(tmp_path, GOOD))
+    ctx = pipeline.Context(scene)
+    ctx.get("equations")
+    assert ctx.ran == ["system", "equations"]
+    files, ctx = pipeline.run_products(scene)
+    assert "closed_form" not in ctx.ran and set(files) == {"equations.json", "equations.tex"}
+
+
+# -- atomicity, skipping, reproducibility --------------------------------------
+
+def test_skip_when_unchanged_and_force(tmp_path):
+    path = _write(tmp_path, GOOD)
+    out = tmp_path / "out"
+    assert build(path, out, log=lambda m: None) == {"scene": "built"}
+    assert build(path, out, log=lambda m: None) == {"scene": "up to date"}
+    assert build(path, out, force=True, log=lambda m: None) == {"scene": "built"}
+    # a hand edit of an output is noticed (its hash no longer matches)
+    (out / "scene" / "equations.json").write_text("{}\n")
+    assert build(path, out, log=lambda m: None) == {"scene": "built"}
+    # a changed scene is rebuilt
+    path.write_text(GOOD.replace("point", "rod"))
+    assert build(path, out, log=lambda m: None) == {"scene": "built"}
+
+
+def test_failed_build_leaves_previous_outputs_intact(tmp_path, monkeypatch):
+    path = _write(tmp_path, GOOD)
+    out = tmp_path / "out"
+    build(path, out, log=lambda m: None)
+    before = {p.name: p.read_bytes() for p in (out / "scene").iterdir()}
+    from pendulab.products import equations
+
+    def broken(ctx, options):
+        raise RuntimeError("disk on fire")
+    monkeypatch.setattr(equations, "produce", broken)
+    with pytest.raises(RuntimeError):
+        build(path, out, force=True, log=lambda m: None)
+    after = {p.name: p.read_bytes() for p in (out / "scene").iterdir()}
+    assert before == after
+    assert sorted(os.listdir(out)) == ["scene"]  # no temporary directory left behind
+
+
+def test_generated_is_reproducible_byte_for_byte(tmp_path):
+    """`pendulab build derivations/` on the committed scenes gives the committed generated/."""
+    out = tmp_path / "generated"
+    build(SCENES, out, force=True, log=lambda m: None)
+    committed = ROOT / "generated"
+    names = sorted(p.name for p in committed.iterdir() if not p.name.startswith("."))
+    assert names == sorted(p.name for p in out.iterdir())
+    for name in names:
+        cmp = filecmp.dircmp(committed / name, out / name)
+        assert not cmp.left_only and not cmp.right_only, name
+        for f in cmp.common_files:
+            assert (committed / name / f).read_bytes() == (out / name / f).read_bytes(), f"{name}/{f}"
+
+
+def test_every_committed_scene_is_built():
+    scenes = {load_scene(p).name for p in SCENES.glob("*.toml")}
+    built = {p.name for p in (ROOT / "generated").iterdir() if p.is_dir()}
+    assert scenes == built
+
+
+# -- CLI ------------------------------------------------------------------------
+
+def test_every_command_is_installed():
+    from pendulab.cli import available_commands
+    assert available_commands() == list(COMMANDS)
+
+
+@pytest.mark.parametrize("argv", [[], ["derive"], ["derive", "kapitza"], ["derive", "variable-length"],
+                                  ["build"]])
+def test_help_on_each_command(argv, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(argv + ["--help"])
+    assert info.value.code == 0
+    assert "usage: pendulab" in capsys.readouterr().out
+
+
+def test_derive_json_keys(capsys):
+    assert main(["derive", "kapitza", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert {"lagrangian", "eom", "linear", "canonical"} <= set(doc)
+    assert {"theta0", "theta1"} <= set(doc["canonical"])
+    assert main(["derive", "variable-length", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert {"lagrangian", "eom", "linear", "canonical", "solution"} <= set(doc)
+
+
+def test_derive_latex_is_an_align_block(capsys):
+    assert main(["derive", "kapitza", "--body", "point", "--latex"]) == 0
+    out = capsys.readouterr().out
+    assert "\\begin{align*}" in out and out.rstrip().endswith("\\end{align*}")
+
+
+def test_console_script_runs():
+    res = subprocess.run([sys.executable, "-m", "pendulab", "derive", "kapitza", "--json"],
+                         capture_output=True, text=True)
+    assert res.returncode == 0 and json.loads(res.stdout)["canonical"]["kind"] == "mathieu"

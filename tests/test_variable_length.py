@@ -1,0 +1,168 @@
+"""The variable-length pendulum (002_19b336b29bb1f03b.txt): Lagrangian -> eqs. 3, 4, 7
+-> Bessel solution, checked by substitution, against the source, DLMF and an
+independent numerical integration.
+"""
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+
+from pendulab import symbols as S
+from pendulab.analyses.bessel import (check_cross_product_numerically, closed_form,
+                                      cross_product, derivative_rule_holds)
+from pendulab.canonical import length_form
+from pendulab.equations import derive
+from pendulab.errors import InputError
+from pendulab.exprs import parse
+from pendulab.systems import VariableLength
+
+t, g, L0, v0 = S.t, S.g, S.L0, S.v0
+th = S.theta(t)
+ell = S.L(t)
+Lv = S.Lvar
+
+
+@pytest.fixture(scope="module")
+def linear_case():
+    system = VariableLength()
+    eqs = derive(system)
+    form = length_form(eqs)
+    return system, eqs, form, closed_form(form, system.length)
+
+
+def test_lagrangian_gives_eq3():
+    """002 eq. 3: -g sin theta = 2 L' theta' + L theta'' (any L(t))."""
+    eqs = derive(VariableLength())
+    eq3 = 2 * ell.diff(t) * th.diff(t) + ell * th.diff(t, 2) + g * sp.sin(th)
+    assert sp.simplify(eqs.source_form - eq3) == 0
+
+
+def test_lagrange_agrees_with_the_sources_newton_route():
+    """The source projects Newton's law on the normal to the string (002 eqs. 1-2)."""
+    eqs = derive(VariableLength())
+    assert sp.simplify(eqs.source_form - eqs.newton) == 0
+
+
+def test_eq4_linear():
+    eqs = derive(VariableLength())
+    eq4 = 2 * ell.diff(t) * th.diff(t) + ell * th.diff(t, 2) + g * th
+    assert sp.simplify(eqs.linear - eq4) == 0
+
+
+def test_length_form_line_before_eq7_and_eq7(linear_case):
+    """002: L v0^2 theta_LL + 2 v0^2 theta_L + g theta = 0, then times L/v0^2 (eq. 7)."""
+    _, _, form, _ = linear_case
+    thL = S.theta(Lv)
+    before7 = Lv * v0**2 * thL.diff(Lv, 2) + 2 * v0**2 * thL.diff(Lv) + g * thL
+    assert sp.simplify(form.length_equation - before7) == 0
+    # 002 eq. 7 as printed is L^2 th'' + 2 L th' + (g/v0^2) th: the last term lost
+    # its factor L.  Multiplying the (correct) line before by L/v0^2 gives:
+    corrected7 = Lv**2 * thL.diff(Lv, 2) + 2 * Lv * thL.diff(Lv) + g * Lv / v0**2 * thL
+    assert sp.simplify(form.euler_form - corrected7) == 0
+    printed7 = Lv**2 * thL.diff(Lv, 2) + 2 * Lv * thL.diff(Lv) + g / v0**2 * thL
+    assert sp.simplify(form.euler_form - printed7) != 0
+
+
+def test_generalised_bessel_parameters(linear_case):
+    """002: alpha = -1/2, beta = 1/2, k = 2 sqrt(g)/v0, p = 1."""
+    _, _, form, _ = linear_case
+    assert (form.alpha, form.beta, form.p) == (sp.Rational(-1, 2), sp.Rational(1, 2), 1)
+    assert sp.simplify(form.k - 2 * sp.sqrt(g) / v0) == 0
+
+
+def test_solution_residual_is_exactly_zero(linear_case):
+    _, _, _, sol = linear_case
+    assert sol.residuals == (0, 0)
+    # and it is the source's theta = A z^-1 J1(z) + B z^-1 Y1(z), z = (2/v0) sqrt(g L)
+    z = S.z
+    assert sp.simplify(sol.general_z - (S.A * sp.besselj(1, z) / z + S.B * sp.bessely(1, z) / z)) == 0
+    assert sp.simplify(sol.z_of_L - 2 / v0 * sp.sqrt(g * Lv)) == 0
+
+
+def test_the_printed_eq7_is_not_solved_by_the_sources_solution(linear_case):
+    """Numerically: the Bessel solution fails the printed eq. 7 (so the typo is real)."""
+    _, _, _, sol = linear_case
+    theta_L = sol.general_z.subs(S.z, sol.z_of_L)
+    printed = (Lv**2 * theta_L.diff(Lv, 2) + 2 * Lv * theta_L.diff(Lv) + g / v0**2 * theta_L)
+    val = printed.subs({S.A: 1, S.B: 0, g: sp.Rational(981, 100), v0: sp.Rational(1, 10), Lv: 2})
+    assert abs(complex(val.evalf(30))) > 1e-3
+
+
+def test_derivative_rule_dlmf_10_6_6():
+    for p in range(4):
+        assert derivative_rule_holds(p, "J") and derivative_rule_holds(p, "Y")
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 3])
+def test_cross_product_against_dlmf_10_5_3(n):
+    """DLMF 10.5.3: J_{n+1} Y_n - J_n Y_{n+1} = 2/(pi z); 002 'Afirmação' for n = 1."""
+    assert sp.simplify(cross_product(n) - (-2 / (sp.pi * S.z))) == 0
+
+
+def test_cross_product_to_50_digits():
+    """mpmath at 50 digits over z in [0.1, 40]: residual below 1e-48."""
+    zs = [mpmath.mpf(k) / 7 for k in range(1, 280, 13)]
+    for n in (1, 2, 5):
+        assert check_cross_product_numerically(n, zs, dps=50) < mpmath.mpf("1e-48")
+
+
+def test_initial_value_constants(linear_case):
+    """A, B from theta(z0) = theta_0, dtheta/dz(z0) = 0 (002, Cramer's rule).
+
+    The source's Cramer form is compared exactly; its 'Consequência' gives
+    A = -(pi/2) theta_0 z0^2 Y2(z0) (agrees) and B = -(pi/2) theta_0 z0^2 J2(z0)
+    (sign differs: the Cramer form and the cross product give +); the initial
+    conditions decide, checked numerically with mpmath at 30 digits.
+    """
+    _, _, _, sol = linear_case
+    z0, th0 = S.z0, S.theta_0
+    J, Y = sp.besselj, sp.bessely
+    W = J(1, z0) * Y(2, z0) - J(2, z0) * Y(1, z0)
+    assert sp.simplify(sol.cramer[S.A] - th0 * z0 * Y(2, z0) / W) == 0
+    assert sp.simplify(sol.cramer[S.B] + th0 * z0 * J(2, z0) / W) == 0
+    assert sp.simplify(sol.constants[S.A] - (-sp.pi / 2 * th0 * z0**2 * Y(2, z0))) == 0
+    assert sp.simplify(sol.constants[S.B] - (+sp.pi / 2 * th0 * z0**2 * J(2, z0))) == 0
+    f = sp.lambdify([S.z, z0, th0], sol.particular_z, "mpmath")
+    with mpmath.workdps(30):
+        for z0v in (mpmath.mpf("0.7"), mpmath.mpf("3.1"), mpmath.mpf("9.25")):
+            assert abs(f(z0v, z0v, 1) - 1) < mpmath.mpf("1e-25")
+            assert abs(mpmath.diff(lambda zz: f(zz, z0v, 1), z0v)) < mpmath.mpf("1e-20")
+
+
+def test_closed_form_against_numerical_integration(linear_case):
+    """Independent method: integrate 002 eq. 4 with scipy (rtol 1e-11) and compare."""
+    from scipy.integrate import solve_ivp
+    _, _, _, sol = linear_case
+    vals = {g: 9.81, v0: 0.05, L0: 0.5, S.theta_0: 0.1}
+    z_t = sol.z_of_L.subs(Lv, L0 + v0 * t)
+    theta_t = sol.particular_z.subs({S.z0: sol.z0, S.z: z_t}).subs(vals)
+    f = sp.lambdify(t, theta_t, "mpmath")
+
+    def rhs(tt, y):
+        Lt = 0.5 + 0.05 * tt
+        return [y[1], -(2 * 0.05 * y[1] + 9.81 * y[0]) / Lt]
+    ts = np.linspace(0, 20, 41)
+    num = solve_ivp(rhs, (0, 20), [0.1, 0.0], t_eval=ts, rtol=1e-11, atol=1e-13, method="DOP853")
+    closed = np.array([float(f(tt)) for tt in ts])
+    assert np.max(np.abs(num.y[0] - closed)) < 1e-8
+
+
+def test_nonlinear_length_has_no_bessel_form():
+    system = VariableLength(length=parse("L0 + v0*t + t**2"))
+    assert length_form(derive(system)) is None
+
+
+@pytest.mark.parametrize("length, fragment", [
+    ("-1 + t", "length must be positive"),
+    ("0", "length must be positive"),
+    ("theta(t)", "may not contain theta"),
+])
+def test_bad_lengths(length, fragment):
+    with pytest.raises(InputError, match=fragment):
+        VariableLength(length=parse(length))
+
+
+def test_bad_mass():
+    with pytest.raises(InputError, match="mass must be positive"):
+        VariableLength(mass=-2)
