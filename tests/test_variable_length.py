@@ -166,3 +166,28 @@ def test_bad_lengths(length, fragment):
 def test_bad_mass():
     with pytest.raises(InputError, match="mass must be positive"):
         VariableLength(mass=-2)
+
+
+def test_amplitude_constant_C_when_z0_is_a_zero_of_J2(linear_case):
+    """002: with J2(z0) = 0, theta(t) = -C L^-1/2 J1(z).  Derived C = pi theta_0 L0 sqrt(g) Y2(z0)/v0.
+
+    The source prints C = (pi/2)(4 g L0/v0^2) theta_0 Y2(z0), which lacks the
+    factor v0/(2 sqrt(g)) that z^-1 = v0/(2 sqrt(g L)) brings; the test checks
+    the derived C numerically against the initial condition instead.
+    """
+    _, _, _, sol = linear_case
+    theta_L = sol.particular_z.subs(S.z, sol.z_of_L).subs(S.z0, sol.z0)
+    theta_L = theta_L.subs(sp.besselj(2, sol.z0), 0)      # z0 is a zero of J2
+    C = sp.simplify(-theta_L * sp.sqrt(Lv) / sp.besselj(1, sol.z_of_L))
+    expected = sp.pi * S.theta_0 * L0 * sp.sqrt(g) * sp.bessely(2, sol.z0) / v0
+    assert sp.simplify(C - expected) == 0
+    printed = sp.pi / 2 * 4 * g * L0 / v0**2 * S.theta_0 * sp.bessely(2, sol.z0)
+    assert sp.simplify(C / printed - v0 / (2 * sp.sqrt(g))) == 0
+    # numerically: L0 chosen so that z0 = j_{2,1}; theta(0) = theta_0 to 30 digits
+    with mpmath.workdps(30):
+        j21 = mpmath.besseljzero(2, 1)
+        gv, vv = mpmath.mpf("9.81"), mpmath.mpf("0.2")
+        L0v = (j21 * vv / 2)**2 / gv
+        Cv = mpmath.pi * L0v * mpmath.sqrt(gv) * mpmath.bessely(2, j21) / vv
+        theta0_back = -Cv / mpmath.sqrt(L0v) * mpmath.besselj(1, 2 / vv * mpmath.sqrt(gv * L0v))
+        assert abs(theta0_back - 1) < mpmath.mpf("1e-25")
