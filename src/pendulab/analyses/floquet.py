@@ -1,0 +1,718 @@
+"""Exact Floquet analysis of Mathieu's equation in the source's form.
+
+The linearised inverted pendulum in dimensionless time is (000 eq. 7)
+
+    theta'' + (theta0 + 2 theta1 cos 2 tau) theta = 0,
+
+which is DLMF 28.2.1, w'' + (a - 2 q cos 2z) w = 0, with a = theta0 and
+q = -theta1.  With the Floquet ansatz theta = exp(i lam tau) sum_n b_n
+exp(2 i n tau) (000 eq. 8) the coefficients obey (000 eqs. 9-10)
+
+    theta1 b_{n-1} + C_n b_n + theta1 b_{n+1} = 0,   C_n = theta0 - (2n + lam)^2,
+
+and lam is DLMF's characteristic exponent nu (DLMF 28.2.16-28.2.17).  The
+coefficient has period pi in tau, so the Floquet multipliers are
+exp(+- i pi lam) and the trace of the monodromy matrix is 2 cos(pi lam)
+(DLMF 28.2.21: cos(pi nu) = w_I(pi)).
+
+Conventions used throughout
+---------------------------
+* lam is the *unfolded* exponent: in the k-th stable band (k = 0, 1, ...)
+  lam is real in (k, k + 1); in the k-th instability gap lam = k + i mu with
+  mu > 0; below a_0 lam = i mu.  With theta1 = 0 this gives lam = sqrt(theta0)
+  exactly (imaginary for theta0 < 0).
+* The band index comes from counting the characteristic values (a_n and b_n
+  of all orders, DLMF 28.2(v)) below theta0 with a Sturm sequence on the four
+  tridiagonal matrices of DLMF 28.4.5-28.4.8: an odd count means the interior
+  of a stable band, an even count an instability gap.
+* Every method computes u = (lam - e)^2 for the nearest band edge e (an
+  integer), which is a well-conditioned quantity even when lam sits at an
+  edge; lam = e +- sqrt(u).  u > 0: stable, u < 0: unstable.
+
+Three independent methods (``method=``)
+---------------------------------------
+"cf"        the source's continued fractions (000 sec. 2.2): the recurrence is
+            closed by the minimal-solution continued fractions on both sides
+            of a central block and the determinant of that block, an even
+            function of lam - e, is solved for u.
+"hill"      Hill's determinant (Whittaker & Watson sec. 19.42, after dividing
+            row n by (2n + s)^2 - theta0): cos(pi lam) = cos(pi s)
+            + Delta_s (cos(pi sqrt(theta0)) - cos(pi s)), where Delta_s is the
+            normalised infinite determinant.  s = 0 gives the classical
+            sin^2(pi lam/2) = Delta(0) sin^2(pi sqrt(theta0)/2); s = 1 is used
+            when theta0 is near an even square, where the s = 0 normalisation
+            divides by zero.  The truncated determinants converge only
+            algebraically (error ~ N^-3), so the limit is taken by Richardson
+            extrapolation in the truncation depth N.
+"monodromy" integrates the even and odd solutions over half a period with a
+            Taylor method at the working precision and uses
+            w_I(pi) = 2 w_I(pi/2) w_II'(pi/2) - 1 (a consequence of the even,
+            pi-periodic coefficient; DLMF 28.2(iv)).
+
+Precision: mpmath precision is set per call with ``mpmath.workdps``; each
+answer is computed at two working precisions and accepted only when they
+agree to the digits asked; otherwise the working precision grows (up to
+``max_dps``), and :class:`~pendulab.errors.PrecisionError` is raised if that
+is not enough.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import warnings
+from dataclasses import dataclass
+from fractions import Fraction
+
+import mpmath
+
+from pendulab.errors import AccuracyWarning, ConvergenceError, InputError, PrecisionError
+
+__all__ = [
+    "FloquetResult",
+    "characteristic_exponent",
+    "theta0_of_exponent",
+    "mathieu_a",
+    "mathieu_b",
+    "stability_limits",
+    "is_stable",
+    "trace_monodromy",
+    "stability_map",
+    "METHODS",
+]
+
+METHODS = ("hill", "cf", "monodromy")
+
+#: extra decimal digits carried beyond the precision asked for
+GUARD = 10
+#: precision used when ``dps=None`` (the result is then returned as float/complex)
+DOUBLE_DPS = 16
+MAX_DPS_LIMIT = 20000
+
+
+# ---------------------------------------------------------------------------
+# input handling
+# ---------------------------------------------------------------------------
+
+_DEC = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+
+def _exact(x, name):
+    """Return ``x`` as an exact number (Fraction or mpf), or raise InputError.
+
+    Strings may be decimals ("-0.002", "1e-3") or fractions ("1/5"); they are
+    kept exact so that they can be rounded afresh at every working precision.
+    """
+    if isinstance(x, bool):
+        raise InputError(f"{name} must be a real number, not a bool")
+    if isinstance(x, (int, Fraction)):
+        return Fraction(x)
+    if isinstance(x, float):
+        if not math.isfinite(x):
+            raise InputError(f"{name} must be finite, got {x!r}")
+        return Fraction(x)
+    if isinstance(x, mpmath.mpf):
+        if not mpmath.isfinite(x):
+            raise InputError(f"{name} must be finite, got {x}")
+        return x
+    if isinstance(x, str):
+        s = x.strip()
+        try:
+            if "/" in s:
+                num, den = s.split("/")
+                num, den = num.strip(), den.strip()
+                if not (_DEC.match(num) and _DEC.match(den)):
+                    raise ValueError
+                val = Fraction(num) / Fraction(den)
+            else:
+                if not _DEC.match(s):
+                    raise ValueError
+                val = Fraction(s)
+        except (ValueError, ZeroDivisionError):
+            raise InputError(f"{name} must be a real number such as -0.002 or 1/5, "
+                             f"got {x!r}") from None
+        return val
+    try:  # numpy scalars, sympy numbers
+        import numbers
+        if isinstance(x, numbers.Rational):
+            return Fraction(int(x.numerator), int(x.denominator))
+        if isinstance(x, numbers.Real):
+            return _exact(float(x), name)
+    except (TypeError, ValueError):
+        pass
+    raise InputError(f"{name} must be a real number, got {type(x).__name__} {x!r}")
+
+
+def _mp(v):
+    """An exact value rounded to the current mpmath precision."""
+    if isinstance(v, Fraction):
+        if v.denominator == 1:
+            return mpmath.mpf(v.numerator)
+        return mpmath.mpf(v.numerator) / v.denominator
+    return +v
+
+
+def _check_dps(dps, name="dps"):
+    if dps is None:
+        return None
+    if isinstance(dps, bool) or not isinstance(dps, int):
+        raise InputError(f"{name} must be a positive integer or None, got {dps!r}")
+    if dps < 1 or dps > MAX_DPS_LIMIT:
+        raise InputError(f"{name} must be between 1 and {MAX_DPS_LIMIT}, got {dps}")
+    return dps
+
+
+def _is_zero(v):
+    return v == 0
+
+
+def _is_int_square(v):
+    """Return k if the exact value v equals k**2 for an integer k >= 0, else None."""
+    if isinstance(v, Fraction):
+        if v.denominator != 1 or v < 0:
+            return None
+        k = math.isqrt(v.numerator)
+        return k if k * k == v.numerator else None
+    if v < 0 or not mpmath.isint(v):
+        return None
+    k = math.isqrt(int(v))
+    return k if k * k == int(v) else None
+
+
+# ---------------------------------------------------------------------------
+# depth rules
+# ---------------------------------------------------------------------------
+
+def _edge_index(theta0, theta1):
+    """Smallest even m0 >= 2 beyond which |C_m| > 2|theta1| (tails are minimal)."""
+    m = math.sqrt(max(float(theta0), 0.0) + 2.0 * abs(float(theta1))) + 2.0
+    m0 = int(math.ceil(m))
+    return m0 + (m0 % 2)
+
+
+def _tail_steps(theta0, theta1, m0, digits):
+    """Number of continued-fraction levels (step 2 in the frequency index) past m0
+    after which the neglected tail is below 10**-digits.
+
+    Each level multiplies the tail by about theta1^2 / (C_m C_{m+2}) (000 eq. 10),
+    so the count follows from a running product of those ratios.
+    """
+    t0, t1 = float(theta0), abs(float(theta1))
+    if t1 == 0.0:
+        return 1
+    logsum, steps, m = 0.0, 0, m0
+    target = -digits * math.log(10.0)
+    while logsum > target:
+        c1 = abs(t0 - m * m)
+        c2 = abs(t0 - (m + 2) * (m + 2))
+        logsum += 2.0 * math.log(t1) - math.log(c1) - math.log(c2)
+        steps += 1
+        m += 2
+        if steps > 10 ** 6:  # pragma: no cover - unreachable for finite input
+            raise ConvergenceError("continued-fraction tail did not converge")
+    return steps + 2
+
+
+# ---------------------------------------------------------------------------
+# Sturm counts of the characteristic values (DLMF 28.4.5-28.4.8)
+# ---------------------------------------------------------------------------
+
+def _family_diagonals(family, q, n, one):
+    """Diagonal and squared off-diagonal of the symmetric tridiagonal matrix whose
+    eigenvalues are a_{2j} ("a_even"), a_{2j+1} ("a_odd"), b_{2j+1} ("b_odd") or
+    b_{2j+2} ("b_even"), truncated to n rows (DLMF 28.4.5-28.4.8; the a_even
+    matrix is symmetrised by scaling A_0 by sqrt 2)."""
+    if family == "a_even":
+        d = [one * (2 * j) ** 2 for j in range(n)]
+        e2 = [q * q * (2 if j == 0 else 1) for j in range(n - 1)]
+    elif family == "a_odd":
+        d = [one * (2 * j + 1) ** 2 for j in range(n)]
+        d[0] = d[0] + q
+        e2 = [q * q for _ in range(n - 1)]
+    elif family == "b_odd":
+        d = [one * (2 * j + 1) ** 2 for j in range(n)]
+        d[0] = d[0] - q
+        e2 = [q * q for _ in range(n - 1)]
+    elif family == "b_even":
+        d = [one * (2 * j + 2) ** 2 for j in range(n)]
+        e2 = [q * q for _ in range(n - 1)]
+    else:  # pragma: no cover
+        raise AssertionError(family)
+    return d, e2
+
+
+FAMILIES = ("a_even", "a_odd", "b_odd", "b_even")
+
+
+def _sturm_count(d, e2, x):
+    """Number of eigenvalues < x of the symmetric tridiagonal (d, e2) (LDL^T inertia)."""
+    count = 0
+    p = d[0] - x
+    tiny = mpmath.mpf(2) ** (-mpmath.mp.prec - 20) if isinstance(x, mpmath.mpf) else 1e-300
+    for i in range(len(d)):
+        if i:
+            p = d[i] - x - e2[i - 1] / p
+        if p == 0:
+            p = -tiny
+        if p < 0:
+            count += 1
+    return count
+
+
+def _edge_count(theta0, theta1, w):
+    """Number of characteristic values a_n, b_n (all n) below theta0, at dps w."""
+    q = -theta1
+    m0 = _edge_index(theta0, theta1)
+    n = m0 // 2 + _tail_steps(theta0, theta1, m0, w) + 2
+    one = mpmath.mpf(1)
+    total = 0
+    for fam in FAMILIES:
+        d, e2 = _family_diagonals(fam, q, n, one)
+        total += _sturm_count(d, e2, theta0)
+    return total
+
+
+# ---------------------------------------------------------------------------
+# method "cf": continued fractions (000 eqs. 8-10)
+# ---------------------------------------------------------------------------
+
+class _CF:
+    """The characteristic function of 000 eq. 10 closed by continued fractions.
+
+    Frequencies are indexed by m = 2n + e (e the band edge), so that
+    C(m) = theta0 - (m + t)^2 with t = lam - e.  The block |m| <= M is kept
+    exactly; beyond it the ratios b_{m+2}/b_m (and b_{m-2}/b_m) are the
+    minimal-solution continued fractions of the source, truncated ``tail``
+    levels out.  The block determinant is even in t, i.e. a function of u = t^2.
+    """
+
+    def __init__(self, theta0, theta1, e, digits):
+        self.x0, self.x1, self.e = theta0, theta1, e
+        m0 = _edge_index(theta0, theta1)
+        M = max(m0, e + 2)
+        if (M - e) % 2:
+            M += 1
+        self.M = M
+        self.tail = _tail_steps(theta0, theta1, M, digits)
+        self.depth = M // 2 + self.tail
+
+    def __call__(self, u):
+        x0, x1 = self.x0, self.x1
+        t = mpmath.sqrt(u) if u >= 0 else mpmath.mpc(0, mpmath.sqrt(-u))
+
+        def C(m):
+            return x0 - (m + t) ** 2
+
+        M, T = self.M, self.tail
+        # right tail: rho = b_{m}/b_{m-2} = -x1 / (C_m + x1 rho_{m+2})
+        rho = 0
+        for m in range(M + 2 * T, M, -2):
+            rho = -x1 / (C(m) + x1 * rho)
+        sig = 0
+        for m in range(-M - 2 * T, -M, 2):
+            sig = -x1 / (C(m) + x1 * sig)
+        # block continuant from m = -M to m = M (step 2)
+        ms = list(range(-M, M + 1, 2))
+        d = [C(m) for m in ms]
+        d[0] += x1 * sig
+        d[-1] += x1 * rho
+        x12 = x1 * x1
+        p_prev, p = 1, d[0]
+        for j in range(1, len(d)):
+            p_prev, p = p, d[j] * p - x12 * p_prev
+        # scale away the (harmless) magnitude of the leading products
+        return mpmath.re(p)
+
+
+def _illinois(f, a, b, fa, fb, tol, maxit=2000):
+    """Bracketed root of f in [a, b] by Brent's method (inverse quadratic
+    interpolation, secant and bisection steps; Brent 1973, ch. 4).
+    Returns (root, final bracket width)."""
+    if fa == 0:
+        return a, 0
+    if fb == 0:
+        return b, 0
+    if (fa > 0) == (fb > 0):
+        raise ConvergenceError("root is not bracketed")
+    if abs(fa) < abs(fb):
+        a, b, fa, fb = b, a, fb, fa
+    c, fc = a, fa
+    d = e = b - a
+    for _ in range(maxit):
+        if (fb > 0) == (fc > 0):
+            c, fc = a, fa
+            d = e = b - a
+        if abs(fc) < abs(fb):
+            a, b, c = b, c, b
+            fa, fb, fc = fb, fc, fb
+        m = (c - b) / 2
+        tol1 = 4 * mpmath.eps * abs(b) + tol / 2
+        if abs(m) <= tol1 or fb == 0:
+            return b, abs(c - b)
+        if abs(e) < tol1 or abs(fa) <= abs(fb):
+            d = e = m
+        else:
+            sfrac = fb / fa
+            if a == c:
+                p = 2 * m * sfrac
+                qq = 1 - sfrac
+            else:
+                qa = fa / fc
+                r = fb / fc
+                p = sfrac * (2 * m * qa * (qa - r) - (b - a) * (r - 1))
+                qq = (qa - 1) * (r - 1) * (sfrac - 1)
+            if p > 0:
+                qq = -qq
+            else:
+                p = -p
+            if 2 * p < min(3 * m * qq - abs(tol1 * qq), abs(e * qq)):
+                e, d = d, p / qq
+            else:
+                d = e = m
+        a, fa = b, fb
+        b = b + (d if abs(d) > tol1 else (tol1 if m > 0 else -tol1))
+        fb = f(b)
+    raise ConvergenceError("root finder did not converge")
+
+
+def _cf_u(theta0, theta1, count, w):
+    """u = (lam - e)^2 by the continued-fraction method at dps w; returns (e, u, depth)."""
+    if count % 2 == 1:  # inside band k: lam - k in (0, 1)
+        k = (count - 1) // 2
+        f = _CF(theta0, theta1, k, w + 5)
+        one = mpmath.mpf(1)
+        fa, fb = f(mpmath.mpf(0)), f(one)
+        u, _ = _illinois(f, mpmath.mpf(0), one, fa, fb, mpmath.mpf(10) ** (-w))
+        if u > mpmath.mpf(1) / 4:  # nearer the upper edge k+1: re-solve there
+            t = 1 - mpmath.sqrt(u)
+            f = _CF(theta0, theta1, k + 1, w + 5)
+            lo, hi = t * t / 2, min(t * t * 2 + mpmath.mpf(10) ** (-w // 2), one)
+            flo, fhi = f(lo), f(hi)
+            if (flo > 0) == (fhi > 0):
+                lo, hi = mpmath.mpf(0), one
+                flo, fhi = f(lo), f(hi)
+            u, _ = _illinois(f, lo, hi, flo, fhi, mpmath.mpf(10) ** (-w))
+            return k + 1, u, f.depth
+        return k, u, f.depth
+    k = count // 2
+    f = _CF(theta0, theta1, k, w + 5)
+    f0 = f(mpmath.mpf(0))
+    U = mpmath.mpf(1)
+    fU = f(-U)
+    while (fU > 0) == (f0 > 0):
+        U *= 4
+        if U > mpmath.mpf(10) ** 12:
+            raise ConvergenceError("could not bracket the characteristic exponent")
+        fU = f(-U)
+    u, _ = _illinois(f, -U, mpmath.mpf(0), fU, f0, mpmath.mpf(10) ** (-w))
+    return k, u, f.depth
+
+
+# ---------------------------------------------------------------------------
+# method "hill": Hill's determinant with Richardson extrapolation
+# ---------------------------------------------------------------------------
+
+def _hill_shift(theta0):
+    """Shift s in {0, 1} keeping (2n + s)^2 - theta0 away from zero."""
+    x = float(theta0)
+    if x <= 0.25:
+        return 1 if x > -1.0 else 0
+    r = math.sqrt(x)
+    k = int(round(r))
+    return 1 if k % 2 == 0 else 0
+
+
+def _richardson_terms(w, theta0, theta1):
+    base = 2 * int(math.ceil(math.sqrt(abs(float(theta0)) + 2 * abs(float(theta1)))))
+    return int(math.ceil((w + 12) / 0.6)) + base + 12
+
+
+def _richardson_weight_digits(M):
+    N = M // 2 - 1
+    best = 0.0
+    for k in range(N + 1):
+        v = (N * math.log(N + k) - math.lgamma(k + 1) - math.lgamma(N - k + 1)) / math.log(10)
+        best = max(best, v)
+    return best
+
+
+def _hill_y(X0, X1, w):
+    """cos(pi lam) from Hill's determinant at dps w; returns (y, depth)."""
+    with mpmath.workdps(w):
+        M = _richardson_terms(w, _mp(X0), _mp(X1))
+    extra = int(_richardson_weight_digits(M)) + 10
+    with mpmath.workdps(w + extra):
+        x0, x1 = _mp(X0), _mp(X1)
+        s = _hill_shift(x0)
+
+        def g(n):
+            return x1 / ((2 * n + s) ** 2 - x0)
+
+        # continuants of the window [L, R]: K(L..R), K(L+1..R), K(L..R-1), K(L+1..R-1)
+        klr, kl1r, klr1, kl1r1 = mpmath.mpf(1), mpmath.mpf(1), mpmath.mpf(1), mpmath.mpf(0)
+        L = R = 0
+        gR, gL = g(0), g(0)
+        seq = []
+        for _ in range(M):
+            gn = g(R + 1)
+            c = gR * gn
+            R += 1
+            gR = gn
+            klr, kl1r, klr1, kl1r1 = klr - c * klr1, kl1r - c * kl1r1, klr, kl1r
+            gn = g(L - 1)
+            c = gn * gL
+            L -= 1
+            gL = gn
+            klr, klr1, kl1r, kl1r1 = klr - c * kl1r, klr1 - c * kl1r1, klr, klr1
+            seq.append(klr)
+        delta, _ = mpmath.richardson(seq)
+        if x0 >= 0:
+            cr = mpmath.cospi(mpmath.sqrt(x0))
+        else:
+            cr = mpmath.cosh(mpmath.pi * mpmath.sqrt(-x0))
+        cs = 1 if s == 0 else -1
+        y = cs + delta * (cr - cs)
+    with mpmath.workdps(w):
+        return +y, M
+
+
+# ---------------------------------------------------------------------------
+# method "monodromy": Taylor integration of the fundamental matrix
+# ---------------------------------------------------------------------------
+
+def _monodromy_y(X0, X1, w):
+    """cos(pi lam) = w_I(pi) = 2 w_I(pi/2) w_II'(pi/2) - 1 by a Taylor method at dps w.
+
+    Returns (y, order)."""
+    omega = math.sqrt(abs(float(X0)) + 2 * abs(float(X1))) + 2.0
+    nsteps = max(1, int(math.ceil((math.pi / 2) * omega / 1.5)))
+    growth = math.exp(omega * math.pi / 2) ** 2  # bound on |fundamental matrix|^2
+    wl = w + int(math.log10(growth)) + 5
+    # order K with (omega h)^K / K! < 10^-(wl+5)
+    ratio = omega * (math.pi / 2) / nsteps
+    K, term = 1, ratio
+    while term > 10.0 ** (-(wl + 5)) or K < 8:
+        K += 1
+        term *= ratio / K
+    with mpmath.workdps(wl):
+        x0, x1 = _mp(X0), _mp(X1)
+        h = mpmath.pi / 2 / nsteps
+        h2 = h * h
+        states = [[mpmath.mpf(1), mpmath.mpf(0)], [mpmath.mpf(0), mpmath.mpf(1)]]
+        for step in range(nsteps):
+            tau0 = step * h
+            c, s = mpmath.cos(2 * tau0), mpmath.sin(2 * tau0)
+            cyc = (c, -s, -c, s)
+            # P_j = p_j h^(j+2): Taylor coefficients of theta0 + 2 theta1 cos(2 tau)
+            P = [0] * K
+            fac = mpmath.mpf(1)
+            for j in range(K):
+                if j:
+                    fac = fac * 2 * h / j
+                P[j] = 2 * x1 * fac * cyc[j % 4] * h2
+            P[0] += x0 * h2
+            new = []
+            for y0, yp in states:
+                z = [y0, yp * h]
+                for k in range(K - 2):
+                    acc = mpmath.fsum(P[j] * z[k - j] for j in range(k + 1))
+                    z.append(-acc / ((k + 1) * (k + 2)))
+                yv = mpmath.fsum(z)
+                ypv = mpmath.fsum(k * z[k] for k in range(1, len(z))) / h
+                new.append([yv, ypv])
+            states = new
+        wI, wIp = states[0]
+        wII, wIIp = states[1]
+        y = 2 * wI * wIIp - 1
+    with mpmath.workdps(w):
+        return +y, K
+
+
+# ---------------------------------------------------------------------------
+# from cos(pi lam) to u = (lam - e)^2
+# ---------------------------------------------------------------------------
+
+def _u_from_y(y, count):
+    """Band edge e and u = (lam - e)^2 from y = cos(pi lam) and the edge count."""
+    if count % 2 == 1:
+        k = (count - 1) // 2
+        e = k if ((-1) ** k) * y >= 0 else k + 1
+    else:
+        e = count // 2
+    eps = 1 - ((-1) ** e) * y  # = 2 sin^2(pi t / 2), t = lam - e
+    if eps >= 0:
+        t = 2 * mpmath.asin(mpmath.sqrt(eps / 2)) / mpmath.pi
+        u = t * t
+    else:
+        t = 2 * mpmath.asinh(mpmath.sqrt(-eps / 2)) / mpmath.pi
+        u = -t * t
+    return e, u
+
+
+# ---------------------------------------------------------------------------
+# public scalar API
+# ---------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class FloquetResult:
+    """Characteristic exponent of theta'' + (theta0 + 2 theta1 cos 2tau) theta = 0.
+
+    lam          unfolded exponent (see module docstring); mpf/mpc, or float/complex
+                 when the call had dps=None
+    multipliers  (exp(i pi lam), exp(-i pi lam)), the Floquet multipliers
+    stable       True when every solution is bounded
+    on_boundary  True when a characteristic curve a_n/b_n lies within the asked
+                 precision (relative 10^-dps) of theta0; ``stable`` is then the
+                 verdict for the input exactly as given when the working precision
+                 could resolve it, and otherwise the verdict on the curve itself
+                 (unstable, except theta1 = 0 with theta0 > 0)
+    depth        truncation depth used (cf: Fourier index |n| reached; hill: number
+                 of truncated determinants extrapolated; monodromy: Taylor order)
+    method, dps  as asked; working_dps is the precision finally used
+    band_edge    the integer e nearest to Re(lam) that the computation was based on
+    """
+
+    lam: object
+    multipliers: tuple
+    stable: bool
+    on_boundary: bool
+    depth: int
+    method: str
+    dps: object
+    working_dps: int
+    band_edge: int
+
+    @property
+    def trace(self):
+        """Trace of the monodromy matrix, 2 cos(pi lam)."""
+        return self.multipliers[0] + self.multipliers[1]
+
+
+def _core(method, X0, X1, w):
+    """One evaluation at dps w: returns (count, e, u, depth)."""
+    with mpmath.workdps(w):
+        x0, x1 = _mp(X0), _mp(X1)
+        count = _edge_count(x0, x1, w)
+        if method == "cf":
+            e, u, depth = _cf_u(x0, x1, count, w)
+            return count, e, u, depth
+    if method == "hill":
+        y, depth = _hill_y(X0, X1, w)
+    else:
+        y, depth = _monodromy_y(X0, X1, w)
+    with mpmath.workdps(w):
+        e, u = _u_from_y(y, count)
+    return count, e, u, depth
+
+
+def _near_edge(X0, X1, dps, w):
+    """True when a characteristic value lies within relative 10^-dps of theta0."""
+    with mpmath.workdps(w):
+        x0, x1 = _mp(X0), _mp(X1)
+        delta = mpmath.mpf(10) ** (-dps) * max(1, abs(x0))
+        return _edge_count(x0 - delta, x1, w) != _edge_count(x0 + delta, x1, w)
+
+
+def _finish(lam, dps, out_dps):
+    with mpmath.workdps(out_dps + 5):
+        mults = (mpmath.expjpi(lam), mpmath.expjpi(-lam))
+    if dps is None:
+        def conv(z):
+            z = complex(z)
+            return z.real if z.imag == 0 else z
+        return conv(lam), tuple(complex(m) for m in mults)
+    with mpmath.workdps(out_dps):
+        return +lam, tuple(+m for m in mults)
+
+
+def characteristic_exponent(theta0, theta1, dps=None, method="hill", max_dps=None):
+    """Floquet characteristic exponent lam of 000 eq. 7 with its multipliers and verdict.
+
+    theta0, theta1 : real numbers; str ("-0.002", "1/5"), int, Fraction, float or
+        mpf.  Strings and fractions are exact and rounded afresh at each working
+        precision.
+    dps : decimal digits wanted (None: double precision, plain float/complex out).
+    method : "hill" (default), "cf" or "monodromy" -- three independent routes
+        that agree to the digits asked.
+    max_dps : ceiling for the automatic growth of the working precision near
+        band edges (default 4*dps + 60).
+
+    Raises InputError on bad arguments and PrecisionError when lam cannot be
+    resolved to ``dps`` digits within ``max_dps``.
+
+    >>> r = characteristic_exponent("-0.002", "0.2", dps=30, method="cf")
+    >>> r.stable, r.on_boundary
+    (True, False)
+    >>> s = characteristic_exponent("-0.002", "0.2", dps=30, method="hill")
+    >>> abs(r.lam - s.lam) < 1e-29
+    True
+    """
+    if method not in METHODS:
+        raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    dps = _check_dps(dps)
+    X0, X1 = _exact(theta0, "theta0"), _exact(theta1, "theta1")
+    want = DOUBLE_DPS if dps is None else dps
+    if max_dps is None:
+        max_dps = 4 * want + 60
+    else:
+        max_dps = _check_dps(max_dps, "max_dps")
+
+    # theta1 = 0: lam = sqrt(theta0) exactly
+    if _is_zero(X1):
+        with mpmath.workdps(want + GUARD):
+            x0 = _mp(X0)
+            lam = mpmath.sqrt(x0) if x0 >= 0 else mpmath.mpc(0, mpmath.sqrt(-x0))
+        k = _is_int_square(X0)
+        on_b = k is not None
+        if not on_b:
+            with mpmath.workdps(want + GUARD):
+                r = mpmath.sqrt(abs(_mp(X0)))
+                on_b = X0 >= 0 and abs(r - mpmath.nint(r)) <= mpmath.mpf(10) ** (-want) * max(1, r)
+        stable = bool(X0 > 0)
+        edge = int(mpmath.nint(mpmath.re(lam)))
+        lam_out, mults = _finish(lam, dps, want)
+        return FloquetResult(lam_out, mults, stable, bool(on_b), 0, method, dps,
+                             want + GUARD, edge)
+
+    on_b = _near_edge(X0, X1, want, want + GUARD)
+    w = want + GUARD
+    tiny = mpmath.mpf(10) ** (-(want + 3))
+    while True:
+        c1, e1, u1, _ = _core(method, X0, X1, w)
+        w2 = w + 12
+        c2, e2, u2, depth = _core(method, X0, X1, w2)
+        with mpmath.workdps(w2):
+            consistent = (c1 == c2 and e1 == e2 and (u2 > 0) == (c2 % 2 == 1)
+                          and (u1 > 0) == (u2 > 0))
+            err = abs(u1 - u2)
+            resolved = consistent and err <= tiny * abs(u2)
+        if resolved:
+            count, e, u = c2, e2, u2
+            break
+        if w2 + 12 > max_dps:
+            if on_b:
+                # the point is on a characteristic curve at the precision asked
+                count, e = c2, e2
+                u = mpmath.mpf(0)
+                break
+            raise PrecisionError(
+                f"dps={want} cannot resolve the exponent at theta0={theta0}, "
+                f"theta1={theta1} with method {method!r} within max_dps={max_dps} "
+                f"(two working precisions differ by {mpmath.nstr(err, 3)}); "
+                f"raise max_dps or use method='cf'")
+        w = min(max(w + 12, 2 * w - want), max_dps - 12)
+
+    with mpmath.workdps(w2):
+        if u >= 0:
+            # lam above the edge when the count says band e (count = 2e+1)
+            sign = 1 if count == 2 * e + 1 else -1
+            lam = e + sign * mpmath.sqrt(u) if u != 0 else mpmath.mpf(e)
+            stable = u > 0
+        else:
+            lam = mpmath.mpc(e, mpmath.sqrt(-u))
+            stable = False
+        if u == 0:
+            stable = False  # on a curve with theta1 != 0: no coexistence (Ince)
+    lam_out, mults = _finish(lam, dps, want)
+    return FloquetResult(lam_out, mults, bool(stable), bool(on_b), int(depth), method,
+                         dps, int(w2), int(e))
