@@ -20,7 +20,7 @@ moment of inertia, not the imaginary unit):
 'I + 4*l**2*m/3'
 >>> load_expr(dump_expr(e)) == e
 True
->>> parse("__import__('os').system('true')")
+>>> parse("__import__('os')")
 Traceback (most recent call last):
 ...
 pendulab.errors.InputError: name '__import__' is not allowed (names may not start with '_')
