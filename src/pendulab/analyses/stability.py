@@ -1,0 +1,259 @@
+"""Limits of a/l for the inverted pendulum by every method, side by side (issue 4 item 5).
+
+For a body with I/(m l^2) = ``inertia_ratio`` and a drive with
+omega0/omega = ``ratio``, the inverted position is stable for
+lower < a/l < upper.  Methods:
+
+* ``"exact"`` - the exact characteristic curves a_0 and b_1 of Mathieu's
+  equation (:func:`pendulab.analyses.floquet.stability_limits`);
+* ``"eq12"`` - Phelps–Hunter's small-parameter interval (000 eq. 12), as
+  derived in :func:`pendulab.analyses.phelps_hunter.interval_eq12`;
+* ``"eq19"`` - Butikov's lower bound as the source prints it (000 eq. 19,
+  :func:`pendulab.analyses.averaging.lower_bound_source`); no upper limit;
+* ``"eq19-corrected"`` - the same averaging done for a physical pendulum
+  (:func:`pendulab.analyses.averaging.lower_bound_physical`); no upper limit;
+* ``"eq28"`` - the source's own series at second order (000 eq. 28),
+  :func:`pendulab.analyses.series.stability_interval_series` with order 2;
+* ``"series:N"`` - that series at order N.
+
+The symbolic formulas are turned into numbers here, never re-typed.
+
+>>> lower, upper = limits(0.1, 4/3, "eq12")
+>>> round(lower, 6), round(upper, 6)
+(0.188562, 0.629133)
+>>> lower, upper = limits(0.1, 1, "eq19")
+>>> round(lower, 12), upper
+(0.141421356237, None)
+"""
+
+import functools
+import math
+import numbers
+from fractions import Fraction
+
+from pendulab.errors import InputError, PendulabError
+
+#: The fixed method names; "series:N" (N a positive integer) is accepted too.
+METHODS = ("exact", "eq12", "eq19", "eq19-corrected", "eq28")
+#: Methods of the comparison table when none are named.
+DEFAULT_METHODS = ("exact", "eq12", "eq19", "eq19-corrected", "eq28", "series:4")
+#: Highest series order accepted (the series module's own limits apply as well).
+MAX_SERIES_ORDER = 40
+
+
+def _number(value, name):
+    """A finite real number from ``value`` (int, float, Fraction, numeric SymPy or decimal text)."""
+    if isinstance(value, bool):
+        raise InputError(f"{name} must be a number, got {value!r}")
+    if isinstance(value, str):
+        text = value.strip()
+        try:
+            value = float(Fraction(text)) if "/" in text else float(text)
+        except (ValueError, ZeroDivisionError):
+            raise InputError(f"{name} must be a number, got {text!r}") from None
+    if not isinstance(value, numbers.Real):
+        try:
+            import sympy as sp
+            expr = sp.sympify(value)
+            if not (expr.is_number and expr.is_real):
+                raise TypeError
+            value = float(expr)
+        except Exception:
+            raise InputError(f"{name} must be a real number, got {value!r}") from None
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(f"{name} must be finite, got {value!r}")
+    return value
+
+
+def check_ratio(ratio):
+    """omega0/omega as a float; it must be finite and >= 0."""
+    value = _number(ratio, "omega0/omega")
+    if value < 0:
+        raise InputError(f"omega0/omega must be >= 0, got {value!r}")
+    return value
+
+
+def check_inertia_ratio(inertia_ratio):
+    """I/(m l^2) as a float; >= 1 since I = m l^2 + I0 with I0 >= 0 (000 sec. 2.1)."""
+    value = _number(inertia_ratio, "I/(m l^2)")
+    if value < 1:
+        raise InputError(f"I/(m l^2) must be >= 1 (I = m l^2 + I0, I0 >= 0), got {value!r}")
+    return value
+
+
+def parse_method(method):
+    """("exact" | "eq12" | ... | "series", order or None) from a method name."""
+    if not isinstance(method, str):
+        raise InputError(f"method must be a string, got {method!r}")
+    if method in METHODS:
+        return method, None
+    if method.startswith("series:"):
+        text = method[len("series:"):]
+        if not text.isdigit() or not 1 <= int(text) <= MAX_SERIES_ORDER:
+            raise InputError(f"method {method!r}: the series order must be an integer "
+                             f"between 1 and {MAX_SERIES_ORDER}")
+        return "series", int(text)
+    raise InputError(f"unknown method {method!r} (known: {', '.join(METHODS)}, series:N)")
+
+
+@functools.lru_cache(maxsize=None)
+def _formula(name):
+    """Numeric function (ratio, inertia_ratio) -> limit, lambdified from the derived formula."""
+    import sympy as sp
+
+    from pendulab.analyses import averaging, phelps_hunter as ph
+
+    expr = {
+        "eq12-lower": lambda: ph.interval_eq12()[0],
+        "eq12-upper": lambda: ph.interval_eq12()[1],
+        "eq19": averaging.lower_bound_source,
+        "eq19-corrected": averaging.lower_bound_physical,
+    }[name]()
+    return sp.lambdify((ph.w0_over_w, ph.inertia_ratio), expr, "math")
+
+
+def formulas():
+    """The derived closed forms used by the methods eq12, eq19 and eq19-corrected.
+
+    A dict method -> (lower, upper) of SymPy expressions in ``w0_over_w`` and
+    ``inertia_ratio`` (upper None where the method has none).
+    """
+    from pendulab.analyses import averaging, phelps_hunter as ph
+
+    return {
+        "eq12": ph.interval_eq12(),
+        "eq19": (averaging.lower_bound_source(), None),
+        "eq19-corrected": (averaging.lower_bound_physical(), None),
+    }
+
+
+def _missing(method, where):
+    return PendulabError(f"method {method!r} needs {where}, which is not available "
+                         "in this installation yet")
+
+
+def _exact(ratio, inertia_ratio):
+    try:
+        from pendulab.analyses.floquet import stability_limits
+    except ImportError:
+        raise _missing("exact", "pendulab.analyses.floquet.stability_limits") from None
+    lower, upper = stability_limits(ratio, inertia_ratio=inertia_ratio)
+    return (None if lower is None else float(lower)), (None if upper is None else float(upper))
+
+
+def _series(order, ratio, inertia_ratio):
+    try:
+        from pendulab.analyses.series import stability_interval_series
+    except ImportError:
+        raise _missing(f"series:{order}", "pendulab.analyses.series.stability_interval_series") from None
+    lower, upper = stability_interval_series(order, ratio, inertia_ratio)
+    return (None if lower is None else float(lower)), (None if upper is None else float(upper))
+
+
+def limits(ratio, inertia_ratio=1, method="exact"):
+    """(lower, upper) limits of a/l for stability of the inverted position.
+
+    ``ratio`` = omega0/omega >= 0, ``inertia_ratio`` = I/(m l^2) >= 1 (1 for a
+    point mass, 4/3 for a rod), ``method`` one of :data:`METHODS` or
+    "series:N".  ``upper`` is None for eq19 and eq19-corrected (the averaging
+    gives no upper limit).  Raises :class:`~pendulab.errors.InputError` for bad
+    input and :class:`~pendulab.errors.PendulabError` when the method's module
+    is not installed.
+    """
+    problems = []
+    for check, value in ((check_ratio, ratio), (check_inertia_ratio, inertia_ratio),
+                         (parse_method, method)):
+        try:
+            check(value)
+        except InputError as exc:
+            problems.append(str(exc))
+    if problems:
+        raise InputError("; ".join(problems))
+    rho, r = check_ratio(ratio), check_inertia_ratio(inertia_ratio)
+    kind, order = parse_method(method)
+    if kind == "exact":
+        return _exact(rho, r)
+    if kind == "eq12":
+        return _formula("eq12-lower")(rho, r), _formula("eq12-upper")(rho, r)
+    if kind in ("eq19", "eq19-corrected"):
+        return _formula(kind)(rho, r), None
+    if kind == "eq28":
+        return _series(2, rho, r)
+    return _series(order, rho, r)
+
+
+def comparison(ratios, inertia_ratio=1, methods=DEFAULT_METHODS, series_order=None):
+    """Limits of a/l on a grid of omega0/omega for several methods (table data).
+
+    ``methods`` may contain "series" (plain), which then means
+    "series:<series_order>".  Returns a dict::
+
+        {"inertia_ratio": r, "w0_over_w": [...], "methods": [...],
+         "limits": {method: [[lower, upper], ...]}}
+
+    with None where a method has no limit.  All input problems are reported at
+    once.
+    """
+    problems = []
+    if isinstance(ratios, (str, bytes)) or not hasattr(ratios, "__iter__"):
+        raise InputError(f"ratios must be a sequence of numbers, got {ratios!r}")
+    ratios = list(ratios)
+    if not ratios:
+        problems.append("ratios is empty")
+    grid = []
+    for value in ratios:
+        try:
+            grid.append(check_ratio(value))
+        except InputError as exc:
+            problems.append(str(exc))
+    try:
+        r = check_inertia_ratio(inertia_ratio)
+    except InputError as exc:
+        problems.append(str(exc))
+    if isinstance(methods, str):
+        methods = [methods]
+    names = []
+    for method in methods:
+        if method == "series":
+            if series_order is None:
+                problems.append("method 'series' needs series_order")
+                continue
+            method = f"series:{series_order}"
+        try:
+            parse_method(method)
+        except InputError as exc:
+            problems.append(str(exc))
+            continue
+        if method not in names:
+            names.append(method)
+    if not names and not problems:
+        problems.append("no methods given")
+    if problems:
+        raise InputError("; ".join(problems))
+    table = {m: [list(limits(rho, r, m)) for rho in grid] for m in names}
+    return {"inertia_ratio": r, "w0_over_w": grid, "methods": names, "limits": table}
+
+
+def reference_limits(ratio, inertia_ratio=1):
+    """Exact limits from scipy's characteristic values (an independent cross-check).
+
+    The lower limit solves a_0(q) = theta0 and the upper b_1(q) = theta0 with
+    theta0 = -4 ratio^2 and a/l = q inertia_ratio/2 (000 eqs. 5-6;
+    scipy.special.mathieu_a(0, q), mathieu_b(1, q)).  SciPy's characteristic
+    values are trusted only for q <= 3 here (they are known to fail at large
+    q, scipy issues 4479 and 14526); beyond that this raises.
+    """
+    from scipy.optimize import brentq
+    from scipy.special import mathieu_a, mathieu_b
+
+    rho, r = check_ratio(ratio), check_inertia_ratio(inertia_ratio)
+    theta0 = -4 * rho * rho
+    q_max = 3.0
+    f_low = lambda q: mathieu_a(0, q) - theta0  # noqa: E731
+    f_up = lambda q: mathieu_b(1, q) - theta0  # noqa: E731
+    if f_low(q_max) > 0 or f_up(q_max) > 0:
+        raise InputError(f"omega0/omega = {rho} needs q > {q_max}, beyond the range trusted here")
+    low = 0.0 if rho == 0 else brentq(f_low, 0.0, q_max, xtol=1e-15, rtol=1e-14)
+    up = brentq(f_up, 0.0, q_max, xtol=1e-15, rtol=1e-14)
+    return low * r / 2, up * r / 2

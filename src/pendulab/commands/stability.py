@@ -1,0 +1,68 @@
+"""pendulab stability [--body rod|point | --inertia-ratio R] --ratio W0_OVER_W [--method M] [--json]"""
+
+import argparse
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "stability", help="limits of a/l for the inverted pendulum",
+        description="Lower and upper limits of a/l between which the inverted position of a "
+                    "body on a vertically driven pivot is stable, for omega0/omega = W0_OVER_W, "
+                    "by the exact Floquet curves or by the source's approximations "
+                    "(000_8cba66c4fdf94ac6.txt eqs. 12, 19, 28).",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    body = p.add_mutually_exclusive_group()
+    body.add_argument("--body", choices=("rod", "point"),
+                      help="rod: I/(m l^2) = 4/3; point: 1 (default: rod)")
+    body.add_argument("--inertia-ratio", metavar="I_OVER_ML2",
+                      help="I/(m l^2) as a number >= 1 (instead of --body)")
+    p.add_argument("--ratio", metavar="W0_OVER_W", required=True,
+                   help="omega0/omega, a number >= 0")
+    p.add_argument("--method", default="exact", metavar="METHOD",
+                   help="exact, eq12, eq19, eq19-corrected, eq28 or series:N")
+    p.add_argument("--json", action="store_true", help="print a JSON record")
+    p.set_defaults(func=run)
+    return p
+
+
+def _format(value):
+    return "none" if value is None else repr(value)
+
+
+def run(args):
+    import sys
+    from fractions import Fraction
+
+    from pendulab.analyses.stability import check_inertia_ratio, check_ratio, limits, parse_method
+    from pendulab.errors import InputError
+    from pendulab.io import canonical_json
+
+    problems = []
+    if args.inertia_ratio is not None:
+        body = None
+        try:
+            inertia = check_inertia_ratio(args.inertia_ratio)
+        except InputError as exc:
+            problems.append(f"--inertia-ratio: {exc}")
+    else:
+        body = args.body or "rod"
+        inertia = {"rod": float(Fraction(4, 3)), "point": 1.0}[body]
+    try:
+        ratio = check_ratio(args.ratio)
+    except InputError as exc:
+        problems.append(f"--ratio: {exc}")
+    try:
+        parse_method(args.method)
+    except InputError as exc:
+        problems.append(f"--method: {exc}")
+    if problems:
+        raise InputError("; ".join(problems))
+    lower, upper = limits(ratio, inertia, args.method)
+    record = {"lower": lower, "upper": upper, "method": args.method, "ratio": ratio,
+              "body": body, "inertia_ratio": inertia}
+    if args.json:
+        sys.stdout.write(canonical_json(record))
+    else:
+        for key in ("method", "body", "inertia_ratio", "ratio", "lower", "upper"):
+            print(f"{key}: {_format(record[key]) if key in ('lower', 'upper') else record[key]}")
+    return 0
