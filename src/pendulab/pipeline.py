@@ -21,6 +21,7 @@ PRODUCTS = {
     "series": "pendulab.products.series",
     "floquet": "pendulab.products.floquet",
     "stability": "pendulab.products.stability",
+    "quarter_periods": "pendulab.products.quarter_periods",
 }
 
 
