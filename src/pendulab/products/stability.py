@@ -155,7 +155,7 @@ def figure_svg(doc):
             ax.set_ylabel(r"$\omega_0/\omega$")
             ax.set_title(f"Inverted pendulum, I/(m l^2) = {doc['inertia_ratio']}: "
                          "stable between lower and upper")
-            ax.legend(loc="lower right", frameon=False)
+            ax.legend(loc="upper left", frameon=False)
             buffer = io.StringIO()
             fig.savefig(buffer, format="svg", metadata={"Date": None})
         finally:
