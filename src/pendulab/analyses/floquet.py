@@ -490,12 +490,7 @@ def _monodromy_y(X0, X1, w):
     nsteps = max(1, int(math.ceil((math.pi / 2) * omega / 1.5)))
     growth = math.exp(omega * math.pi / 2) ** 2  # bound on |fundamental matrix|^2
     wl = w + int(math.log10(growth)) + 5
-    # order K with (omega h)^K / K! < 10^-(wl+5)
-    ratio = omega * (math.pi / 2) / nsteps
-    K, term = 1, ratio
-    while term > 10.0 ** (-(wl + 5)) or K < 8:
-        K += 1
-        term *= ratio / K
+    K = 0  # largest Taylor order used (reported as the depth)
     with mpmath.workdps(wl):
         x0, x1 = _mp(X0), _mp(X1)
         h = mpmath.pi / 2 / nsteps
@@ -505,22 +500,38 @@ def _monodromy_y(X0, X1, w):
             tau0 = step * h
             c, s = mpmath.cos(2 * tau0), mpmath.sin(2 * tau0)
             cyc = (c, -s, -c, s)
-            # P_j = p_j h^(j+2): Taylor coefficients of theta0 + 2 theta1 cos(2 tau)
-            P = [0] * K
-            fac = mpmath.mpf(1)
-            for j in range(K):
-                if j:
-                    fac = fac * 2 * h / j
-                P[j] = 2 * x1 * fac * cyc[j % 4] * h2
-            P[0] += x0 * h2
-            new = []
-            for y0, yp in states:
-                z = [y0, yp * h]
-                for k in range(K - 2):
-                    acc = mpmath.fsum(P[j] * z[k - j] for j in range(k + 1))
+            # P_j = p_j h^(j+2): Taylor coefficients of theta0 + 2 theta1 cos(2 tau);
+            # the series is extended until two successive terms of both
+            # solutions fall below 10^-(wl+5) (a posteriori truncation)
+            P = []
+            tol = mpmath.mpf(10) ** (-(wl + 5))
+
+            def coef(j):
+                while len(P) <= j:
+                    i = len(P)
+                    f = mpmath.mpf(1)
+                    for r in range(1, i + 1):
+                        f = f * 2 * h / r
+                    P.append(2 * x1 * f * cyc[i % 4] * h2 + (x0 * h2 if i == 0 else 0))
+                return P[j]
+
+            zs = [[y0, yp * h] for y0, yp in states]
+            k = 0
+            while True:
+                for z in zs:
+                    acc = mpmath.fsum(coef(j) * z[k - j] for j in range(k + 1))
                     z.append(-acc / ((k + 1) * (k + 2)))
+                k += 1
+                if k > 8 and all(abs(z[-1]) + abs(z[-2]) < tol * (1 + abs(z[0]) + abs(z[1]))
+                                 for z in zs):
+                    break
+                if k > 100000:  # pragma: no cover
+                    raise ConvergenceError("Taylor series of the monodromy did not converge")
+            K = max(K, k + 2)
+            new = []
+            for z in zs:
                 yv = mpmath.fsum(z)
-                ypv = mpmath.fsum(k * z[k] for k in range(1, len(z))) / h
+                ypv = mpmath.fsum(i * z[i] for i in range(1, len(z))) / h
                 new.append([yv, ypv])
             states = new
         wI, wIp = states[0]
@@ -565,9 +576,11 @@ class FloquetResult:
     stable       True when every solution is bounded
     on_boundary  True when a characteristic curve a_n/b_n lies within the asked
                  precision (relative 10^-dps) of theta0; ``stable`` is then the
-                 verdict for the input exactly as given when the working precision
-                 could resolve it, and otherwise the verdict on the curve itself
-                 (unstable, except theta1 = 0 with theta0 > 0)
+                 verdict on the curve itself, which does not depend on digits
+                 beyond the asked ones: unstable (a solution grows linearly; no
+                 coexistence for theta1 != 0, Ince), except theta1 = 0 with
+                 theta0 = k^2 > 0, where cos k tau and sin k tau are both bounded.
+                 lam is still the exponent of the input as given (to dps digits).
     depth        truncation depth used (cf: Fourier index |n| reached; hill: number
                  of truncated determinants extrapolated; monodromy: Taylor order)
     method, dps  as asked; working_dps is the precision finally used
@@ -687,7 +700,12 @@ def characteristic_exponent(theta0, theta1, dps=None, method="hill", max_dps=Non
             consistent = (c1 == c2 and e1 == e2 and (u2 > 0) == (c2 % 2 == 1)
                           and (u1 > 0) == (u2 > 0))
             err = abs(u1 - u2)
-            resolved = consistent and err <= tiny * abs(u2)
+            if on_b:
+                # on a curve at the asked precision: lam to dps digits (absolute)
+                # is all that is meaningful; the verdict is the curve's
+                resolved = c1 == c2 and e1 == e2 and err <= tiny * min(1, abs(u2) ** 0.5 + tiny)
+            else:
+                resolved = consistent and err <= tiny * abs(u2)
         if resolved:
             count, e, u = c2, e2, u2
             break
@@ -713,7 +731,7 @@ def characteristic_exponent(theta0, theta1, dps=None, method="hill", max_dps=Non
         else:
             lam = mpmath.mpc(e, mpmath.sqrt(-u))
             stable = False
-        if u == 0:
+        if u == 0 or on_b:
             stable = False  # on a curve with theta1 != 0: no coexistence (Ince)
     lam_out, mults = _finish(lam, dps, want)
     return FloquetResult(lam_out, mults, bool(stable), bool(on_b), int(depth), method,
