@@ -133,6 +133,8 @@ def test_comparison_reports_every_problem_at_once():
 
 @pytest.mark.parametrize("args, fragment", [
     ((-0.1, 1, "eq12"), "omega0/omega must be >= 0"),
+    ((1e200, 1, "eq12"), "omega0/omega must be >= 0 and <= 1000"),
+    ((0.1, 1e9, "eq12"), "I/\\(m l\\^2\\) must be <= 1000"),
     ((float("nan"), 1, "eq12"), "must be finite"),
     ((float("inf"), 1, "eq12"), "must be finite"),
     (("abc", 1, "eq12"), "must be a number"),

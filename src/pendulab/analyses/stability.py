@@ -39,6 +39,10 @@ METHODS = ("exact", "eq12", "eq19", "eq19-corrected", "eq28")
 DEFAULT_METHODS = ("exact", "eq12", "eq19", "eq19-corrected", "eq28", "series:4")
 #: Highest series order accepted (the series module's own limits apply as well).
 MAX_SERIES_ORDER = 40
+#: Largest omega0/omega and I/(m l^2) accepted: beyond them the limits of a/l
+#: exceed 1e6 and the closed forms overflow double precision.
+MAX_RATIO = 1e3
+MAX_INERTIA_RATIO = 1e3
 
 
 def _number(value, name):
@@ -69,8 +73,8 @@ def _number(value, name):
 def check_ratio(ratio):
     """omega0/omega as a float; it must be finite and >= 0."""
     value = _number(ratio, "omega0/omega")
-    if value < 0:
-        raise InputError(f"omega0/omega must be >= 0, got {value!r}")
+    if not 0 <= value <= MAX_RATIO:
+        raise InputError(f"omega0/omega must be >= 0 and <= {MAX_RATIO:g}, got {value!r}")
     return value
 
 
@@ -79,6 +83,8 @@ def check_inertia_ratio(inertia_ratio):
     value = _number(inertia_ratio, "I/(m l^2)")
     if value < 1:
         raise InputError(f"I/(m l^2) must be >= 1 (I = m l^2 + I0, I0 >= 0), got {value!r}")
+    if value > MAX_INERTIA_RATIO:
+        raise InputError(f"I/(m l^2) must be <= {MAX_INERTIA_RATIO:g}, got {value!r}")
     return value
 
 
