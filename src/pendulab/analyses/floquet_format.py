@@ -1,11 +1,23 @@
 """Text forms of Floquet results shared by the floquet command and product.
 
 Numbers become strings at full precision: reals as mpmath prints them,
-complex values as ``re+imj`` (readable by Python's ``complex`` and by
-``mpmath.mpmathify``).
+complex values as ``re+imj`` (Python's ``complex`` reads them in double
+precision; :func:`parse_number` reads them at the current mpmath precision).
 """
 
+import re
+
 import mpmath
+
+_COMPLEX = re.compile(r"^(?P<re>[+-]?[0-9.]+(?:e[+-]?\d+)?)(?P<im>[+-][0-9.]+(?:e[+-]?\d+)?)j$")
+
+
+def parse_number(text):
+    """Inverse of :func:`number_text` at the current mpmath precision."""
+    m = _COMPLEX.match(text.strip())
+    if m:
+        return mpmath.mpc(mpmath.mpf(m.group("re")), mpmath.mpf(m.group("im")))
+    return mpmath.mpf(text)
 
 
 def number_text(x, dps):
