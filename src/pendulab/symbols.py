@@ -42,6 +42,16 @@ z0 = sp.Symbol("z0", positive=True)  # z at t = 0 (002)
 A = sp.Symbol("A")
 B = sp.Symbol("B")
 
+#: Floquet exponent lambda of 000 eq. 8 ("lambda" is a Python keyword, so "lam").
+lam = sp.Symbol("lam", real=True)
+#: The dimensionless groups in which the source states its limits (000 eqs. 12, 19, 28).
+a_over_l = sp.Symbol("a_over_l", positive=True)
+w0_over_w = sp.Symbol("w0_over_w", nonnegative=True)
+inertia_ratio = sp.Symbol("inertia_ratio", positive=True)
+#: Butikov's slow angle and fast deviation (000 eq. 13).
+psi = sp.Symbol("psi", real=True)
+delta = sp.Symbol("delta", real=True)
+
 theta = sp.Function("theta", real=True)
 L = sp.Function("L", positive=True)
 
@@ -51,5 +61,6 @@ L = sp.Function("L", positive=True)
 NAMESPACE = {
     s.name: s
     for s in (t, tau, a, omega, omega0, g, m, l, I, I0, theta0, theta1, nu, q,
-              L0, v0, z, theta_0, A, B, Lvar, z0)
+              L0, v0, z, theta_0, A, B, Lvar, z0, lam, a_over_l, w0_over_w,
+              inertia_ratio, psi, delta)
 }

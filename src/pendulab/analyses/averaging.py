@@ -41,9 +41,9 @@ from pendulab.analyses.phelps_hunter import a_over_l, inertia_ratio, to_dimensio
 from pendulab.errors import InputError
 
 #: The slow angle psi of 000 eq. 13.
-psi = sp.Symbol("psi", real=True)
+psi = S.psi
 #: The fast deviation delta of 000 eq. 13.
-delta = sp.Symbol("delta", real=True)
+delta = S.delta
 #: A frozen value of the angle theta (the coordinate theta(t) with t held).
 _theta = sp.Symbol("theta_", real=True)
 

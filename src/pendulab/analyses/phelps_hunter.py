@@ -39,8 +39,8 @@ import sympy as sp
 from pendulab import symbols as S
 from pendulab.errors import InputError
 
-#: The Floquet exponent lambda of 000 eq. 8.
-lam = sp.Symbol("lam", real=True)
+#: The Floquet exponent lambda of 000 eq. 8 (shared with pendulab.symbols).
+lam = S.lam
 #: The Fourier coefficients b_n of 000 eq. 8.
 b = sp.IndexedBase("b")
 #: The summation index n of 000 eqs. 8-10.
@@ -48,9 +48,7 @@ n = sp.Symbol("n", integer=True)
 
 #: The dimensionless groups in which the source states its limits (000 eqs. 12, 19, 28):
 #: a/l, omega0/omega and I/(m l^2).
-a_over_l = sp.Symbol("a_over_l", positive=True)
-w0_over_w = sp.Symbol("w0_over_w", nonnegative=True)
-inertia_ratio = sp.Symbol("inertia_ratio", positive=True)
+a_over_l, w0_over_w, inertia_ratio = S.a_over_l, S.w0_over_w, S.inertia_ratio
 
 #: Deepest truncation accepted by the symbolic functions (the expressions grow
 #: quickly; numbers at any depth belong to pendulab.analyses.floquet).
