@@ -28,12 +28,13 @@ def number_text(x, dps):
             return repr(z.real)
         sign = "+" if z.imag >= 0 else "-"
         return f"{z.real!r}{sign}{abs(z.imag)!r}j"
-    z = mpmath.mpmathify(x)
-    if isinstance(z, mpmath.mpf) or mpmath.im(z) == 0:
-        return mpmath.nstr(mpmath.re(z), dps)
-    im = mpmath.im(z)
-    sign = "+" if im >= 0 else "-"
-    return f"{mpmath.nstr(mpmath.re(z), dps)}{sign}{mpmath.nstr(abs(im), dps)}j"
+    with mpmath.workdps(dps + 10):
+        z = mpmath.mpmathify(x)
+        if isinstance(z, mpmath.mpf) or mpmath.im(z) == 0:
+            return mpmath.nstr(mpmath.re(z), dps)
+        im = mpmath.im(z)
+        sign = "+" if im >= 0 else "-"
+        return f"{mpmath.nstr(mpmath.re(z), dps)}{sign}{mpmath.nstr(abs(im), dps)}j"
 
 
 def result_record(result, theta0_text, theta1_text):
