@@ -217,3 +217,16 @@ def test_vectorised_trace_against_mp(rng):
         ref = float(mpmath.re(ref))
         assert abs(t - ref) <= 1e-9 * max(1.0, abs(ref))
     assert trace_monodromy(np.zeros((2, 3)), 0.0).shape == (2, 3)
+
+
+def test_huge_q_exponent_two_methods_and_the_vectorised_verdict():
+    """theta1 = 1e4 (q = -1e4): Hill's determinant and the source's continued fractions
+    are independent routes; they agree to 15 digits and with the double-precision map."""
+    import mpmath
+    import numpy as np
+    from pendulab.analyses.floquet import characteristic_exponent, is_stable
+    theta0 = "-0.01"
+    hill = characteristic_exponent(theta0, 10000, dps=20, method="hill")
+    cf = characteristic_exponent(theta0, 10000, dps=20, method="cf")
+    assert abs(mpmath.mpc(hill.lam) - mpmath.mpc(cf.lam)) < mpmath.mpf("1e-15") * abs(mpmath.mpc(cf.lam))
+    assert hill.stable == cf.stable == bool(is_stable(np.array(-0.01), np.array(1e4)))
