@@ -41,12 +41,12 @@ a_m(q) or b_m(q) as exact rationals to any order.
 Example (000 eq. 27 and c_1, found by the recursion):
 
 >>> S = mathieu_series(2)
->>> S.alpha[2]
-1/(2*(nu - 1)*(nu + 1))
->>> S.c[1]
-[(-1, -1/(4*(nu - 1))), (1, 1/(4*(nu + 1)))]
->>> characteristic_series("a0", 8).coefficients[8]   # DLMF 28.6.1
-68687/18874368
+>>> S.alpha_raw[2].text()
+'1/(2*(nu - 1)*(nu + 1))'
+>>> [(k, v.text()) for k, v in S.c_raw[1]]
+[(-1, '-1/(4*(nu - 1))'), (1, '1/(4*(nu + 1))')]
+>>> str(characteristic_series("a0", 8).coefficients[8])   # DLMF 28.6.1
+'68687/18874368'
 """
 
 import math

@@ -80,11 +80,44 @@ class RatFun:
             den = den * (x + j) ** e
         return acc / den
 
+    def text(self, name="nu"):
+        """Plain text num/(den*(nu + j)**e*...) in SymPy's syntax (deterministic)."""
+        terms = []
+        for i, c in reversed(list(enumerate(self.num))):
+            if not c:
+                continue
+            power = "" if i == 0 else (name if i == 1 else f"{name}**{i}")
+            if not power:
+                body = str(abs(c))
+            elif abs(c) == 1:
+                body = power
+            else:
+                body = f"{abs(c)}*{power}"
+            sign = "-" if c < 0 else "+"
+            terms.append((sign, body))
+        if not terms:
+            return "0"
+        numer = ("-" if terms[0][0] == "-" else "") + terms[0][1]
+        numer += "".join(f" {sg} {b}" for sg, b in terms[1:])
+        factors = [str(self.den)] if self.den != 1 else []
+        for j, e in self.exps:
+            f = f"({name} {'+' if j > 0 else '-'} {abs(j)})"
+            factors.append(f if e == 1 else f"{f}**{e}")
+        if not factors:
+            return numer
+        if len(terms) > 1:
+            numer = f"({numer})"
+        return f"{numer}/({'*'.join(factors)})"
+
     def to_sympy(self, nu):
-        """The value as a SymPy expression in the symbol ``nu``: polynomial over factored denominator."""
+        """The value as a SymPy expression in ``nu``, in the form SymPy reads back from its own text.
+
+        The text of :meth:`text` is parsed (SymPy's parser, our own
+        generated text only), so ``sympify(str(expr))`` gives the same expression.
+        """
         import sympy as sp
-        numer = sp.Add(*[sp.Rational(c, self.den) * nu**i for i, c in enumerate(self.num) if c])
-        return numer / sp.Mul(*[(nu + j) ** e for j, e in self.exps])
+        expr = sp.sympify(self.text("nu"), locals={"nu": nu})
+        return sp.sympify(sp.sstr(expr, order=None), locals={"nu": nu})
 
     def scaled(self, factor):
         """This value times the nonzero integer ``factor``."""
