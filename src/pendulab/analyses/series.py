@@ -357,7 +357,7 @@ class CharacteristicSeries:
         import mpmath
         _check_dps(dps)
         with mpmath.workdps(dps + 10):
-            qm = mpmath.mpf(q) if not isinstance(q, str) else mpmath.mpf(q)
+            qm = _mpf(q, "q")
             if self.radius is not None and abs(qm) >= self.radius:
                 _domain(f"{self.kind}: |q| = {mpmath.nstr(abs(qm), 8)} is beyond the radius of "
                         f"convergence {self.radius} (DLMF Table 28.6.1)", on_domain)
@@ -429,6 +429,25 @@ def _numeric_recursion(nu, order, zero, one, k_values=True):
     return alpha, c
 
 
+def _mpf(value, name):
+    """An mpf at the current working precision from int, Fraction, float, mpf or decimal text."""
+    import mpmath
+    if isinstance(value, bool):
+        raise InputError(f"with dps, {name} must be a single real number, got {value!r}")
+    try:
+        if isinstance(value, Fraction):
+            return mpmath.mpf(value.numerator) / value.denominator
+        if isinstance(value, str) and "/" in value:
+            f = Fraction(value.strip())
+            return mpmath.mpf(f.numerator) / f.denominator
+        result = mpmath.mpf(value)
+    except (TypeError, ValueError, ZeroDivisionError):
+        raise InputError(f"with dps, {name} must be a single real number, got {value!r}") from None
+    if not mpmath.isfinite(result):
+        raise InputError(f"{name} must be finite, got {value!r}")
+    return result
+
+
 def _prepare(nu, theta1, dps, on_domain, order, allow_zero=True):
     _check_order(order)
     _check_on_domain(on_domain)
@@ -452,10 +471,8 @@ def _prepare(nu, theta1, dps, on_domain, order, allow_zero=True):
         return nu_b.astype(float), t1_b.astype(float)
     import mpmath
     _check_dps(dps)
-    try:
-        nu_m, t1_m = mpmath.mpf(nu), mpmath.mpf(theta1)
-    except (TypeError, ValueError):
-        raise InputError("with dps, nu and theta1 must be single real numbers") from None
+    with mpmath.workdps(dps + 15):
+        nu_m, t1_m = _mpf(nu, "nu"), _mpf(theta1, "theta1")
     k = mpmath.nint(nu_m)
     if abs(nu_m - k) < INTEGER_TOLERANCE and (k != 0 or not allow_zero):
         _domain(f"nu = {mpmath.nstr(nu_m, 15)} is within {INTEGER_TOLERANCE:g} of the integer "
@@ -544,7 +561,7 @@ def _solution(kind, tau, nu, theta1, order, dps, on_domain):
         return value, est
     import mpmath
     with mpmath.workdps(dps + 15):
-        tau_m = mpmath.mpf(tau)
+        tau_m = _mpf(tau, "tau")
         f = mpmath.cos if kind == "cos" else mpmath.sin
         _, c = _numeric_recursion(nu_v, order, mpmath.mpf(0), mpmath.mpf(1))
         value = f(nu_v * tau_m)

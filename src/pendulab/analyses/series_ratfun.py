@@ -24,6 +24,7 @@ numerator vanishes at nu = -j, which is tested modulo a prime (vectorised over
 all j) and confirmed by exact synthetic division.
 """
 
+from fractions import Fraction
 from math import gcd, lcm, log2
 
 import numpy as np
@@ -78,6 +79,8 @@ class RatFun:
         den = self.den
         for j, e in self.exps:
             den = den * (x + j) ** e
+        if isinstance(acc, (int, Fraction)) and isinstance(den, (int, Fraction)):
+            return Fraction(acc) / den
         return acc / den
 
     def text(self, name="nu"):
