@@ -1,0 +1,304 @@
+"""Product "series": the perturbation series of 000 sec. 3 and the integer-order series.
+
+Writes, under generated/<scene>/:
+
+* ``series.json`` - for kind "nu": "alpha" (order -> expression in nu), "c" and
+  "s" (order -> list of [k, coefficient], meaning coefficient * cos((nu + 2k) tau),
+  resp. sin); for each integer kind ("a0", "b1", ...): "coefficients" (power of
+  q -> exact rational as text) and "radius" (DLMF Table 28.6.1).  Expressions
+  are :func:`pendulab.exprs.dump_expr` text; SymPy reads them back unchanged.
+* ``series.tex`` - LaTeX (amsmath ``align*``), long coefficients broken across
+  lines so that no line is wider than :data:`LINE_WIDTH` characters of math.
+* ``series_coefficients.py`` - a Python module of the exact coefficients
+  (jinja2 template ``series_coefficients.py.j2``).
+
+Every file is byte-identical on every run.  The functions here are also used
+by ``pendulab series`` on the command line.
+"""
+
+OPTIONS = {
+    "order": (int, 8, "highest power of theta1 (and of q for the integer kinds)"),
+    "kinds": (list, ["nu", "a0", "b1"],
+              "'nu' for 000 eqs. 20-22, and integer kinds 'a0', 'a1', 'b1', 'b2', ... (DLMF 28.6)"),
+}
+SYSTEMS = ("kapitza",)
+
+#: widest line of math in series.tex, in characters of visible math (digits, symbols)
+LINE_WIDTH = 64
+#: highest order the product and the command accept
+MAX_PRODUCT_ORDER = 60
+
+
+# -- checks ------------------------------------------------------------------------------
+
+def check_request(order, kinds, where="series"):
+    """Validate (order, kinds); one InputError listing every problem."""
+    from pendulab.analyses.series import _parse_kind
+    from pendulab.errors import InputError
+    problems = []
+    if isinstance(order, bool) or not isinstance(order, int) or not 1 <= order <= MAX_PRODUCT_ORDER:
+        problems.append(f"order must be an integer from 1 to {MAX_PRODUCT_ORDER}, got {order!r}")
+    if not isinstance(kinds, list) or not kinds:
+        problems.append(f"kinds must be a non-empty list, got {kinds!r}")
+        kinds = []
+    seen = set()
+    for kind in kinds:
+        if kind in seen:
+            problems.append(f"kind {kind!r} is listed twice")
+        seen.add(kind)
+        if kind == "nu":
+            continue
+        try:
+            _parse_kind(kind)
+        except InputError as exc:
+            problems.append(str(exc) if kind != "" else "kind '' is empty")
+    if problems:
+        raise InputError(f"{where}: " + "; ".join(problems))
+
+
+# -- JSON ----------------------------------------------------------------------------------
+
+def nu_record(order):
+    """JSON data of the non-integer series at ``order`` (000 eqs. 20-22)."""
+    from pendulab.analyses.series import mathieu_series
+    from pendulab.exprs import dump_expr
+    s = mathieu_series(order)
+    rows = {str(n): [[k, dump_expr(v)] for k, v in row] for n, row in s.c.items()}
+    return {
+        "kind": "nu",
+        "order": order,
+        "equation": "Derivative(theta, tau, 2) + (theta0 + 2*theta1*cos(2*tau))*theta = 0",
+        "theta0": "nu**2 + Sum(alpha[n]*theta1**n)",
+        "theta_c": "cos(nu*tau) + Sum(theta1**n*Sum(c[n][k]*cos((nu + 2*k)*tau)))",
+        "theta_s": "sin(nu*tau) + Sum(theta1**n*Sum(s[n][k]*sin((nu + 2*k)*tau)))",
+        "source": "000 eqs. 20-27; DLMF 28.15.1-28.15.2 with a = theta0, q = -theta1",
+        "alpha": {str(n): dump_expr(a) for n, a in s.alpha.items()},
+        "c": rows,
+        "s": rows,
+    }
+
+
+def integer_record(kind, order):
+    """JSON data of a_m(q) or b_m(q) at ``order`` (DLMF 28.6)."""
+    from pendulab.analyses.series import characteristic_series
+    s = characteristic_series(kind, order)
+    return {
+        "kind": kind,
+        "order": order,
+        "equation": "Derivative(w, z, 2) + (a - 2*q*cos(2*z))*w = 0 (DLMF 28.2.1); a = theta0, q = -theta1",
+        "coefficients": {str(p): str(c) for p, c in s.coefficients.items()},
+        "radius": s.radius,
+        "radius_source": s.radius_source,
+    }
+
+
+def record(kind, order):
+    return nu_record(order) if kind == "nu" else integer_record(kind, order)
+
+
+# -- LaTeX ------------------------------------------------------------------------------------
+
+def _group(tex, start):
+    """(content, end) of the brace group opening at tex[start] == "{"."""
+    depth = 0
+    for i in range(start, len(tex)):
+        depth += {"{": 1, "}": -1}.get(tex[i], 0)
+        if depth == 0:
+            return tex[start + 1:i], i + 1
+    return tex[start + 1:], len(tex)
+
+
+def _visible(tex):
+    """Width of a LaTeX math fragment in characters, roughly as printed (a fraction: its wider part)."""
+    import re
+    i = tex.find("\\frac{")
+    if i >= 0:
+        numer, j = _group(tex, i + 5)
+        denom, k = _group(tex, j)
+        inner = max(_visible(numer), _visible(denom))
+        return _visible(tex[:i]) + inner + _visible(tex[k:]) + 2
+    t = re.sub(r"\\(nu|tau|theta|alpha|cdot|quad|qquad|left|right|bigl|bigr|Bigl|Bigr)", "x", tex)
+    t = re.sub(r"\\\\\s*$", "", t.strip())
+    t = re.sub(r"\\[a-zA-Z]+|\\,|&", "", t)
+    t = re.sub(r"[{}^_]", "", t)
+    return len(re.sub(r"\s+", " ", t).strip())
+
+
+def _int_tokens(value, first):
+    """Tokens of a signed integer; long integers are split into digit groups."""
+    sign = "-" if value < 0 else ("+" if not first else "")
+    digits = str(abs(value))
+    piece = LINE_WIDTH - 8
+    chunks = [digits[i:i + piece] for i in range(0, len(digits), piece)]
+    out = []
+    for i, ch in enumerate(chunks):
+        prefix = (f"{sign} " if sign else "") if i == 0 else ""
+        out.append(prefix + ch)
+    return out
+
+
+def _poly_tokens(num, var=r"\nu"):
+    """Tokens of sum_i num[i] var^i, highest power first (each token a term or a digit group)."""
+    tokens = []
+    first = True
+    for i in range(len(num) - 1, -1, -1):
+        c = num[i]
+        if not c:
+            continue
+        power = "" if i == 0 else (var if i == 1 else f"{var}^{{{i}}}")
+        if power and abs(c) == 1:
+            tokens.append(("- " if c < 0 else ("" if first else "+ ")) + power)
+        else:
+            parts = _int_tokens(c, first)
+            if power:
+                parts[-1] = parts[-1] + " " + power
+            tokens.extend(parts)
+        first = False
+    return tokens or ["0"]
+
+
+def _factor_tokens(raw, var=r"\nu"):
+    tokens = _int_tokens(raw.den, True) if raw.den != 1 else []
+    for j, e in raw.exps:
+        f = f"({var} {'+' if j > 0 else '-'} {abs(j)})"
+        tokens.append(f if e == 1 else f"{f}^{{{e}}}")
+    return tokens or ["1"]
+
+
+def _lines(tokens, width):
+    """Greedy line filling: lists of tokens whose visible width stays within ``width``."""
+    lines, cur, cur_w = [], [], 0
+    for tok in tokens:
+        w = _visible(tok) + 1
+        if cur and cur_w + w > width:
+            lines.append(cur)
+            cur, cur_w = [], 0
+        cur.append(tok)
+        cur_w += w
+    if cur:
+        lines.append(cur)
+    return lines
+
+
+def _latex_ratfun(name, raw):
+    """align* rows for ``name = raw``: one \\frac when it fits, else numerator and denominator broken."""
+    num_tokens = _poly_tokens(raw.num)
+    den_tokens = _factor_tokens(raw)
+    num_text, den_text = " ".join(num_tokens), " ".join(den_tokens)
+    sign = ""
+    if len(num_tokens) == 1 and num_tokens[0].startswith("- "):
+        sign, num_text = "-", num_text[2:]
+    if raw.exps or raw.den != 1:
+        short = rf"{sign}\frac{{{num_text}}}{{{den_text}}}"
+    else:
+        short = sign + num_text
+    if _visible(name) + _visible(short) + 4 <= LINE_WIDTH and (
+            _visible(num_text) <= LINE_WIDTH - 12 and _visible(den_text) <= LINE_WIDTH - 12):
+        return [rf"{name} &= {short}"]
+    rows = [rf"{name} &= \frac{{N}}{{D}}, \quad \text{{with}}"]
+    for label, toks in (("N", num_tokens), ("D", den_tokens)):
+        for i, line in enumerate(_lines(toks, LINE_WIDTH - 6)):
+            lhs = f"{label} &= " if i == 0 else r"&\quad "
+            joiner = " " if label == "N" else r" \, "
+            rows.append(lhs + joiner.join(line))
+    return rows
+
+
+def latex_text(kinds, order):
+    """The LaTeX fragment of series.tex for ``kinds`` at ``order`` (needs amsmath)."""
+    from pendulab.analyses.series import characteristic_series, mathieu_series
+    from pendulab.analyses.series_ratfun import RatFun
+    out = [
+        "% Generated by pendulab (pendulab.products.series); do not edit.",
+        "% Needs \\usepackage{amsmath}.  Mathieu's equation (000 eq. 7):",
+        "% theta'' + (theta0 + 2 theta1 cos 2tau) theta = 0; DLMF: a = theta0, q = -theta1.",
+        "",
+    ]
+    for kind in kinds:
+        if kind == "nu":
+            s = mathieu_series(order)
+            out.append(f"% 000 eqs. 20-22 to order {order}: theta0 = nu^2 + sum alpha_n theta1^n,")
+            out.append("% c_n = sum_k C_{n,k} cos((nu+2k) tau), s_n = sum_k C_{n,k} sin((nu+2k) tau)")
+            for n in range(1, order + 1):
+                rows = _latex_ratfun(rf"\alpha_{{{n}}}", s.alpha_raw[n])
+                for k, v in s.c_raw[n]:
+                    rows.extend(_latex_ratfun(rf"C_{{{n},{k}}}", v))
+                out.append("\\begin{align*}")
+                out.append(" \\\\\n".join(rows))
+                out.append("\\end{align*}")
+        else:
+            s = characteristic_series(kind, order)
+            letter, m = kind[0], kind[1:]
+            out.append(f"% DLMF 28.6: {letter}_{m}(q) to q^{order}; radius of convergence "
+                       f"{s.radius} ({s.radius_source})")
+            powers = [p for p, c in sorted(s.coefficients.items()) if c]
+            terms = [f"c_{{{p}}}" + ("" if p == 0 else (" q" if p == 1 else f" q^{{{p}}}")) for p in powers]
+            lines = _lines([("" if i == 0 else "+ ") + t for i, t in enumerate(terms)] or ["0"],
+                           LINE_WIDTH - 16)
+            rows = [rf"{letter}_{{{m}}}(q) &= " + " ".join(lines[0])]
+            rows += [r"&\quad " + " ".join(line) for line in lines[1:]]
+            rows[-1] += r" + O(q^{" + str(order + 1) + "})"
+            for p in powers:
+                c = s.coefficients[p]
+                rows.extend(_latex_ratfun(f"c_{{{p}}}", RatFun((c.numerator,), c.denominator, ())))
+            out.append("\\begin{align*}")
+            out.append(" \\\\\n".join(rows))
+            out.append("\\end{align*}")
+        out.append("")
+    return "\n".join(out)
+
+
+# -- generated Python module ---------------------------------------------------------------
+
+def python_module_text(kinds, order, origin):
+    """series_coefficients.py: exact data filled into the jinja2 template."""
+    import jinja2
+
+    from pendulab import __version__
+    from pendulab.analyses.series import characteristic_series, mathieu_series
+
+    def raw(v):
+        return (tuple(v.num), v.den, tuple(v.exps))
+
+    alpha, c, chars, radius = {}, {}, {}, {}
+    if "nu" in kinds:
+        s = mathieu_series(order)
+        alpha = {n: raw(a) for n, a in s.alpha_raw.items()}
+        c = {n: {k: raw(v) for k, v in row} for n, row in s.c_raw.items()}
+    for kind in kinds:
+        if kind != "nu":
+            cs = characteristic_series(kind, order)
+            chars[kind] = {p: f"Fraction({str(v)!r})" for p, v in cs.coefficients.items()}
+            radius[kind] = cs.radius
+
+    def literal(d):
+        if not d:
+            return "{}"
+        return "{\n" + "".join(f"    {k!r}: {v!r},\n" for k, v in d.items()) + "}"
+
+    char_text = "{}" if not chars else "{\n" + "".join(
+        f"    {kind!r}: {{" + ", ".join(f"{p}: {v}" for p, v in vals.items()) + "},\n"
+        for kind, vals in chars.items()) + "}"
+    env = jinja2.Environment(loader=jinja2.PackageLoader("pendulab", "templates"),
+                             keep_trailing_newline=True, undefined=jinja2.StrictUndefined,
+                             autoescape=False)
+    template = env.get_template("series_coefficients.py.j2")
+    return template.render(version=__version__, origin=origin, order=order,
+                           alpha=literal(alpha), c=literal(c), characteristic=char_text,
+                           radius=literal(radius), kinds=[k for k in kinds if k != "nu"])
+
+
+# -- the product ---------------------------------------------------------------------------------
+
+def produce(ctx, options):
+    from pendulab.io import canonical_json
+    order, kinds = options["order"], options["kinds"]
+    check_request(order, kinds, where="series product")
+    kinds = list(kinds)
+    data = {"order": order, "kinds": kinds, "series": {k: record(k, order) for k in kinds}}
+    origin = f"scene {ctx.scene.name!r}" if hasattr(ctx.scene, "name") else "a scene"
+    return {
+        "series.json": canonical_json(data),
+        "series.tex": latex_text(kinds, order),
+        "series_coefficients.py": python_module_text(kinds, order, origin),
+    }
