@@ -47,9 +47,11 @@ def test_json_and_tex_without_figure():
         derived = formulas[method][0]
         assert lower == derived  # same symbols, same assumptions (pendulab.symbols)
     tex = files["stability.tex"]
-    assert "\\toprule" in tex and "\\midrule" in tex and "\\bottomrule" in tex
-    assert tex.count("\\\\") == 7  # header + 6 rows
+    assert tex.count("\\toprule") == tex.count("\\bottomrule") == 2  # lower and upper blocks
+    assert tex.count("\\\\") == 2 * (2 + 6)  # per block: title, header and 6 rows
     assert "0.200 & " in tex and "---" in tex
+    for k, method in enumerate(METHODS):  # every column letter is explained in the caption
+        assert f"({chr(ord('a') + k)}) " in tex
 
 
 def test_deterministic_text():

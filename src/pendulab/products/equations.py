@@ -117,37 +117,40 @@ def document(ctx):
     return variable_length_document(system, eqs, form, ctx.get("closed_form"))
 
 
-def _eq(lhs, rhs=0):
-    return sp.latex(sp.Eq(lhs, rhs, evaluate=False))
-
-
 def latex_fragment(ctx, title):
-    """An align* block with the derivation's equations (LaTeX, deterministic)."""
+    """An align* block with the derivation's equations (LaTeX, deterministic).
+
+    Long sums are broken across rows (:func:`pendulab.latex.sum_rows`) so that
+    the fragment stays within the text width (tests/test_latex.py compiles it).
+    """
+    from pendulab.latex import sum_rows
     system = ctx.get("system")
     eqs = ctx.get("equations")
     form = ctx.get("canonical")
-    rows = [r"\mathcal{L} &= " + sp.latex(eqs.lagrangian)]
+    rows = sum_rows(r"\mathcal{L}", eqs.lagrangian)
     if ctx.scene.system == "kapitza":
-        rows += [
-            sp.latex(eqs.source_form) + " &= 0",
-            sp.latex(eqs.eom) + r" &= 0 \quad \omega_0^2 = " + sp.latex(S.m * S.g * S.l / S.I),
-            sp.latex(eqs.linear) + " &= 0",
-            sp.latex(form.equation) + " &= 0",
-        ]
+        rows += sum_rows("", eqs.source_form, 0)
+        rows += sum_rows("", eqs.eom, 0)
+        rows += [r"\omega_0^2 &= " + sp.latex(S.m * S.g * S.l / S.I)]
+        rows += sum_rows("", eqs.linear, 0)
+        rows += sum_rows("", form.equation, 0)
         if form.kind == "mathieu":
             rows += [r"\theta_0 &= " + sp.latex(form.theta0),
                      r"\theta_1 &= " + sp.latex(form.theta1)
                      + r" = " + sp.latex(sp.simplify(form.theta1.subs(S.I, system.inertia)))]
+        elif form.kind == "hill":
+            rows += [r"&\text{(a Hill equation, not Mathieu's)}"]
     else:
-        rows += [sp.latex(eqs.source_form) + " &= 0", sp.latex(eqs.linear) + " &= 0"]
+        rows += sum_rows("", eqs.source_form, 0)
+        rows += sum_rows("", eqs.linear, 0)
         if form is not None:
-            rows.append(sp.latex(form.euler_form) + " &= 0")
+            rows += sum_rows("", form.euler_form, 0)
         sol = ctx.get("closed_form")
         if sol is not None:
-            rows += [r"\theta &= " + sp.latex(sol.general_z)
-                     + r", \quad z = " + sp.latex(sol.z_of_L),
-                     r"\theta &= " + sp.latex(sol.particular_z)
-                     + r", \quad z_0 = " + sp.latex(sol.z0)]
+            rows += sum_rows(r"\theta", sol.general_z)
+            rows += [r"z &= " + sp.latex(sol.z_of_L)]
+            rows += [r"\theta &= " + sp.latex(sol.particular_z)]
+            rows += [r"z_0 &= " + sp.latex(sol.z0)]
     body = " \\\\\n".join(rows)
     return (_BANNER.format(name=title)
             + "\\begin{align*}\n" + body + "\n\\end{align*}\n")

@@ -100,24 +100,32 @@ def _cell(value):
 
 
 def latex_table(doc):
-    """A booktabs table: one row per omega0/omega, one 'lower / upper' column per method."""
+    """A booktabs table: lower limits, then upper limits; one row per omega0/omega.
+
+    Columns are lettered (a), (b), ... with the methods named in the caption, so
+    that the table stays within the text width whatever the methods' names.
+    """
     methods = doc["methods"]
-    head = " & ".join([r"$\omega_0/\omega$"] + [_label(m) for m in methods])
-    rows = []
-    for i, rho in enumerate(doc["w0_over_w"]):
-        cells = [f"{rho:.3f}"]
-        for m in methods:
-            entry = doc["limits"][m][i]
-            cells.append(f"{_cell(entry['lower'])} / {_cell(entry['upper'])}")
-        rows.append(" & ".join(cells) + r" \\")
+    letters = [f"({chr(ord('a') + k)})" for k in range(len(methods))]
+    legend = "; ".join(f"{letter} {_label(m)}" for letter, m in zip(letters, methods))
+    head = " & ".join([r"$\omega_0/\omega$"] + letters)
     spec = "r" + "c" * len(methods)
+    blocks = []
+    for side in ("lower", "upper"):
+        rows = []
+        for i, rho in enumerate(doc["w0_over_w"]):
+            cells = [f"{rho:.3f}"] + [_cell(doc["limits"][m][i][side]) for m in methods]
+            rows.append(" & ".join(cells) + r" \\")
+        blocks.append(f"\\begin{{tabular}}{{{spec}}}\n\\toprule\n"
+                      f"\\multicolumn{{{len(methods) + 1}}}{{c}}{{{side} limit of $a/l$}} \\\\\n"
+                      f"\\midrule\n{head} \\\\\n\\midrule\n"
+                      + "\n".join(rows) + "\n\\bottomrule\n\\end{tabular}\n")
     return (_BANNER.format(name=doc["scene"])
             + "\\begin{table}\n\\centering\n"
-            + f"\\caption{{Limits of $a/l$ (lower / upper) for the inverted pendulum, "
-              f"$I/(m l^2) = {doc['inertia_ratio']}$.}}\n"
-            + f"\\begin{{tabular}}{{{spec}}}\n\\toprule\n{head} \\\\\n\\midrule\n"
-            + "\n".join(rows)
-            + "\n\\bottomrule\n\\end{tabular}\n\\end{table}\n")
+            + f"\\caption{{Limits of $a/l$ for the inverted pendulum, "
+              f"$I/(m l^2) = {doc['inertia_ratio']}$: {legend}.}}\n"
+            + "\n\\medskip\n".join(blocks)
+            + "\\end{table}\n")
 
 
 def figure_svg(doc):
