@@ -232,11 +232,13 @@ def linear_sum(terms):
     base = 1 << (8 * width)
     total = 0
     for t, den, exps, deg, bits in prods:
-        value = big_den // den
-        for f in t:
-            value *= _pack(f.num, width)
         cof = [(j, big_exps[j] - exps.get(j, 0)) for j in sorted(big_exps)]
-        value *= _linear_product(base, cof)
+        # multiply the smaller factors first (Karatsuba is cheapest on balanced sizes)
+        factors = sorted([_pack(f.num, width) for f in t] + [_linear_product(base, cof)],
+                         key=lambda v: v.bit_length())
+        value = big_den // den
+        for f in factors:
+            value *= f
         total += value
     num = _unpack(total, width, ndeg + 1)
     return RatFun(num, big_den, sorted((j, e) for j, e in big_exps.items() if e))
