@@ -201,3 +201,17 @@ def test_build_writes_the_series_product(tmp_path):
     bad.write_text('name = "bad"\nsystem = "kapitza"\n\n[products.series]\norder = 500\n')
     assert main(["build", str(bad), "--out", str(out)]) == 2
     assert not (out / "bad").exists()
+
+
+@pytest.mark.skipif(__import__("shutil").which("pdflatex") is None, reason="pdflatex not installed")
+def test_latex_compiles_without_overfull_boxes(tmp_path):
+    """A long series (order 24, with the integer kinds) stays on the page (pdflatex's own verdict)."""
+    doc = tmp_path / "series.tex"
+    doc.write_text("\\documentclass[11pt]{article}\n\\usepackage[a4paper,margin=2.5cm]{geometry}\n"
+                   "\\usepackage{amsmath}\n\\begin{document}\n"
+                   + product.latex_text(["nu", "a0", "b1"], 24) + "\n\\end{document}\n")
+    res = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", doc.name],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    log = (tmp_path / "series.log").read_text(errors="replace")
+    assert res.returncode == 0, log[-2000:]
+    assert not [line for line in log.splitlines() if line.startswith("Overfull")]
