@@ -8,7 +8,6 @@ of the equation.
 """
 
 import math
-import warnings
 from fractions import Fraction
 
 import mpmath
@@ -20,7 +19,7 @@ from sympy.polys.fields import field
 
 from pendulab import symbols as S
 from pendulab.analyses import series as se
-from pendulab.errors import AccuracyWarning, InputError, PendulabError, SeriesDomainError
+from pendulab.errors import AccuracyWarning, PendulabError, SeriesDomainError
 
 nu, tau, theta1 = S.nu, S.tau, S.theta1
 

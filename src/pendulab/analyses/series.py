@@ -54,7 +54,7 @@ import threading
 import warnings
 from fractions import Fraction
 
-from pendulab.analyses.series_ratfun import ONE, ZERO, RatFun, linear_sum, reduce, reflect
+from pendulab.analyses.series_ratfun import ONE, ZERO, linear_sum, reduce, reflect
 from pendulab.errors import AccuracyWarning, InputError, SeriesDomainError
 
 __all__ = [
@@ -404,7 +404,7 @@ def _check_dps(dps):
         raise InputError(f"dps must be an integer between 5 and 10000, got {dps!r}")
 
 
-def _numeric_recursion(nu, order, zero, one, k_values=True):
+def _numeric_recursion(nu, order, zero, one):
     """alpha_n(nu) and C[n][k](nu), evaluated by running the recursion on numbers.
 
     ``nu`` is a float array or an mpf; the same recursion as the exact one
