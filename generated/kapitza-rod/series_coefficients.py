@@ -3,10 +3,12 @@
 """Exact coefficients of the perturbation series of Mathieu's equation, order 12.
 
 theta'' + (theta0 + 2 theta1 cos 2tau) theta = 0 (000 eq. 7).
+
 theta0 = nu^2 + sum_n alpha_n theta1^n (000 eq. 20); theta_c = cos(nu tau) +
 sum_n theta1^n sum_k C[n][k] cos((nu + 2k) tau) (000 eq. 21), theta_s the same
 with sines (000 eq. 22).  A coefficient is stored as (num, den, exps): the
 value is sum_i num[i] nu^i / (den * prod (nu + j)^e for (j, e) in exps).
+
 Integer-order characteristic values (DLMF 28.6, w'' + (a - 2q cos 2z) w = 0,
 q = -theta1): CHARACTERISTIC[kind][p] is the exact coefficient of q^p;
 RADIUS[kind] the radius of convergence from DLMF Table 28.6.1 (None: not tabulated).

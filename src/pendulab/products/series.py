@@ -295,7 +295,7 @@ def python_module_text(kinds, order, origin):
     template = env.get_template("series_coefficients.py.j2")
     return template.render(version=__version__, origin=origin, order=order,
                            alpha=literal(alpha), c=literal(c), characteristic=char_text,
-                           radius=literal(radius), kinds=[k for k in kinds if k != "nu"])
+                           radius=literal(radius))
 
 
 # -- the product ---------------------------------------------------------------------------------
