@@ -43,6 +43,19 @@ def test_json_keys_and_round_trip():
     assert rec["s"] == rec["c"]
 
 
+def test_every_expression_is_a_fixed_point_of_printing_and_reading():
+    s = se.mathieu_series(14)
+    locals_ = {"nu": S.nu}
+    for n in range(1, 15):
+        exprs = [s.alpha[n]] + [v for _, v in s.c[n]]
+        raws = [s.alpha_raw[n]] + [v for _, v in s.c_raw[n]]
+        for e, raw in zip(exprs, raws):
+            text = dump_expr(e)
+            back = sp.sympify(text, locals=locals_)
+            assert back == e and dump_expr(back) == text
+            assert sp.sympify(raw.text(), locals=locals_) == e
+
+
 def test_long_json_expressions_read_back_with_sympy():
     """Order 20 strings exceed load_expr's length guard; SymPy's own parser reads them back."""
     rec = product.record("nu", 20)

@@ -113,14 +113,21 @@ class RatFun:
         return f"{numer}/({'*'.join(factors)})"
 
     def to_sympy(self, nu):
-        """The value as a SymPy expression in ``nu``, in the form SymPy reads back from its own text.
+        """The value as a SymPy expression in ``nu``, built as SymPy evaluates :meth:`text`.
 
-        The text of :meth:`text` is parsed (SymPy's parser, our own
-        generated text only), so ``sympify(str(expr))`` gives the same expression.
+        The operations are those of the text, in its order (the integer times
+        the first factor, then the others, the numerator divided by the
+        product), so the result equals ``sympify(self.text())`` and is a fixed
+        point of printing and reading back (tested).
         """
         import sympy as sp
-        expr = sp.sympify(self.text("nu"), locals={"nu": nu})
-        return sp.sympify(sp.sstr(expr, order=None), locals={"nu": nu})
+        numer = sp.Add(*[sp.Integer(c) * nu**i for i, c in enumerate(self.num) if c])
+        if not self.exps and self.den == 1:
+            return numer
+        denom = sp.Integer(self.den)
+        for j, e in self.exps:
+            denom = denom * (nu + j) ** e
+        return numer / denom
 
     def scaled(self, factor):
         """This value times the nonzero integer ``factor``."""
