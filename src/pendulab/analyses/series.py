@@ -155,6 +155,8 @@ class _Engine:
         row = {}
         for k in range(2 - n % 2, n + 1, 2):
             terms = [(self.coefficient(n - 1, k - 1),), (self.coefficient(n - 1, k + 1),)]
+            # C[n][k] != 0 only for k of the parity of n, so alpha_n = -(C[n-1][-1] + C[n-1][1])
+            # vanishes for odd n: only even m contribute (and C[n-m][k] needs |k| <= n - m).
             for m in range(2, n - k + 1, 2):
                 if not alpha[m].is_zero() and k in c[n - m]:
                     terms.append((alpha[m], c[n - m][k]))
