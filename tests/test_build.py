@@ -48,11 +48,25 @@ body = "point"
     ('system = "kapitza"\n[parameters]\ndrive = "__import__(\'os\').system(\'true\')"\n[products.equations]\n',
      "parameters.drive", "not allowed"),
     ('system = "kapitza"\n[parameters]\nbody = "explicit"\ninertia = "-2"\n[products.equations]\n',
-     "parameters", "inertia must be positive"),
+     "parameters.inertia", "must be positive"),
     ('system = "variable-length"\n[parameters]\nlength = "-1"\n[products.equations]\n',
-     "parameters", "length must be positive"),
+     "parameters.length", "must be positive"),
     ('system = "variable-length"\n[parameters]\nmass = "0"\n[products.equations]\n',
-     "parameters", "mass must be positive"),
+     "parameters.mass", "must be positive"),
+    ('system = "variable-length"\n[parameters]\nmass = "m*cos(t)"\n[products.equations]\n',
+     "parameters.mass", "must be a constant"),
+    ('system = "kapitza"\n[parameters]\ndrive = "a*Abs(cos(omega*t))"\n[products.equations]\n',
+     "parameters.drive", "twice differentiable"),
+    ('system = "kapitza"\n[parameters]\ndrive = "a*cos(omega*t)*theta"\n[products.equations]\n',
+     "parameters.drive", "write theta(t)"),
+    ('system = "kapitza"\n[parameters]\ndrive = "t**(10**10)"\n[products.equations]\n',
+     "parameters.drive", "too large"),
+    ('system = "kapitza"\n[parameters]\ndrive = "((10**1000)**1000)**1000"\n[products.equations]\n',
+     "parameters.drive", "too large"),
+    ('system = "kapitza"\n[parameters]\ndrive = "Derivative(a*cos(omega*t), (t, 1000000))"\n'
+     '[products.equations]\n', "parameters.drive", "too high"),
+    ('system = "kapitza"\n[parameters]\nbody = "explicit"\ninertia = "sqrt(-1)"\n[products.equations]\n',
+     "parameters.inertia", "imaginary unit"),
     ('system = "variable-length"\n[parameters]\nbody = "rod"\n[products.equations]\n',
      "parameters.body", "unknown parameter"),
     ('system = "kapitza"\n[products.equations]\nfoo = 1\n', "products.equations.foo", "unknown option"),
@@ -172,6 +186,40 @@ def test_failed_build_leaves_previous_outputs_intact(tmp_path, monkeypatch):
     after = {p.name: p.read_bytes() for p in (out / "scene").iterdir()}
     assert before == after
     assert sorted(os.listdir(out)) == ["scene"]  # no temporary directory left behind
+
+
+def test_error_in_a_product_names_file_and_product_and_writes_no_scene(tmp_path, monkeypatch, capsys):
+    """Two scenes, the second fails inside its product: one line naming that file and
+    product, exit 2, and the first scene's outputs are not written either."""
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    _write(scenes, GOOD, "a.toml")
+    _write(scenes, 'system = "variable-length"\n[products.equations]\n', "b.toml")
+    from pendulab.errors import InputError
+    from pendulab.products import equations
+    real = equations.produce
+
+    def fails_for_b(ctx, options):
+        if ctx.scene.name == "b":
+            raise InputError("cannot do this one")
+        return real(ctx, options)
+    monkeypatch.setattr(equations, "produce", fails_for_b)
+    out = tmp_path / "out"
+    assert main(["build", str(scenes), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert str(scenes / "b.toml") in err[0] and "products.equations: cannot do this one" in err[0]
+    assert not out.exists()
+
+
+def test_unwritable_output_is_a_one_line_error(tmp_path, capsys):
+    path = _write(tmp_path, GOOD)
+    blocker = tmp_path / "blocker"
+    blocker.write_text("a file where the output directory should go\n")
+    assert main(["build", str(path), "--out", str(blocker)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("pendulab: error: cannot write")
+    assert blocker.read_text().startswith("a file")
 
 
 def test_generated_is_reproducible_byte_for_byte(tmp_path):

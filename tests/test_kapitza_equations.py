@@ -137,18 +137,15 @@ def test_two_harmonic_drive_is_hill_not_mathieu():
     assert set(form.fourier) == {0, 2, 4}
 
 
-def test_incommensurate_drive_is_neither():
-    form = periodic_form(derive(DrivenPivot("rod", drive=a * sp.cos(3 * t))))
-    assert form.kind == "linear"
-    assert "neither" in form.note
-
-
 @pytest.mark.parametrize("kwargs, fragment", [
-    ({"body": "stone"}, "body must be one of"),
-    ({"body": "explicit", "inertia_value": -1}, "inertia must be positive"),
-    ({"body": "explicit", "inertia_value": 0}, "inertia must be positive"),
+    ({"body": "stone"}, "body: must be one of"),
+    ({"body": "explicit", "inertia_value": -1}, "inertia: must be positive"),
+    ({"body": "explicit", "inertia_value": 0}, "inertia: must be positive"),
+    ({"body": "explicit", "inertia_value": sp.I}, "inertia: must be a positive real quantity"),
+    ({"drive": parse("a*Abs(cos(omega*t))")}, "drive: must be twice differentiable"),
+    ({"drive": parse("a*Heaviside(t - 1)")}, "drive: must be twice differentiable"),
     ({"body": "rod", "inertia_value": 2}, "use body='explicit'"),
-    ({"angle": "sideways"}, "angle must be"),
+    ({"angle": "sideways"}, "angle: must be"),
     ({"drive": parse("theta(t)")}, "may not contain theta(t)"),
 ])
 def test_bad_systems(kwargs, fragment):

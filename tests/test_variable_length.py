@@ -154,8 +154,9 @@ def test_nonlinear_length_has_no_bessel_form():
 
 
 @pytest.mark.parametrize("length, fragment", [
-    ("-1 + t", "length must be positive"),
-    ("0", "length must be positive"),
+    ("-1 + t", "length: must be positive"),
+    ("0", "length: must be positive"),
+    ("L0 + v0*Abs(t - 1)", "length: must be twice differentiable"),
     ("theta(t)", "may not contain theta"),
 ])
 def test_bad_lengths(length, fragment):
@@ -164,8 +165,10 @@ def test_bad_lengths(length, fragment):
 
 
 def test_bad_mass():
-    with pytest.raises(InputError, match="mass must be positive"):
+    with pytest.raises(InputError, match="mass: must be positive"):
         VariableLength(mass=-2)
+    with pytest.raises(InputError, match="mass: must be a constant"):
+        VariableLength(mass=parse("m*cos(t)"))
 
 
 def test_amplitude_constant_C_when_z0_is_a_zero_of_J2(linear_case):

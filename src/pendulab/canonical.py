@@ -42,7 +42,9 @@ class PeriodicForm:
     ``theta1`` are the parameters of 000 eq. 7 and ``shift`` the tau-shift that
     turns the drive into a pure cosine (0 for the source's drive).  ``fourier``
     maps k >= 0 to the real pair (A_k, B_k) of the coefficient
-    sum_k A_k cos(k tau) + B_k sin(k tau) (Hill and Mathieu).
+    sum_k A_k cos(k tau) + B_k sin(k tau) (Hill and Mathieu).  ``frequency``
+    is the fundamental angular frequency Omega of the drive, tau = Omega t/2
+    (None when the coefficient is not periodic; tau then uses omega).
     """
 
     equation: sp.Expr
@@ -54,6 +56,7 @@ class PeriodicForm:
     fourier: dict = field(default_factory=dict)
     period: sp.Expr = None
     note: str = ""
+    frequency: sp.Expr = S.omega
 
 
 def _exponential_spectrum(expr, var):
@@ -92,8 +95,58 @@ def _real_fourier(spectrum):
     return out
 
 
+def _positive_part(rate):
+    """``rate`` with its numeric sign removed (``-omega`` -> ``omega``)."""
+    c, rest = rate.as_coeff_Mul()
+    return abs(c) * rest
+
+
+def fundamental_frequency(expr):
+    """The fundamental angular frequency of a periodic function of t, or None.
+
+    ``expr`` is written as a sum of exponentials exp(i w_j t); when every w_j
+    is a rational multiple of one of them, the fundamental is their greatest
+    common divisor (``a*cos(omega*t)`` -> omega, ``0.01*cos(20*t)`` -> 20,
+    ``a*cos(omega*t)**2`` -> 2*omega, ``a*cos(omega*t) + b*cos(2*omega*t)`` ->
+    omega).  None when ``expr`` has no oscillating part, or is not a finite sum
+    of commensurate harmonics plus a constant.
+
+    >>> from pendulab import symbols as S
+    >>> fundamental_frequency(S.a*sp.cos(S.omega*S.t/2) + S.a*sp.sin(3*S.omega*S.t/4))
+    omega/4
+    """
+    expanded = sp.expand(sp.powsimp(sp.expand(sp.sympify(expr).rewrite(sp.exp)), combine="exp"))
+    rates = []
+    for atom in expanded.atoms(sp.exp):
+        if not atom.has(S.t):
+            continue
+        rate = sp.expand(atom.args[0] / (sp.I * S.t))
+        if rate.has(S.t) or not rate.is_real:
+            return None
+        if rate != 0:
+            rates.append(_positive_part(rate))
+    if not rates or expanded.subs({e: 0 for e in expanded.atoms(sp.exp) if e.has(S.t)}).has(S.t):
+        return None
+    base = min(rates, key=sp.default_sort_key)
+    numerators, denominators = [], []
+    for rate in rates:
+        ratio = sp.nsimplify(sp.simplify(rate / base))
+        if not ratio.is_Rational:
+            return None
+        numerators.append(int(ratio.p))
+        denominators.append(int(ratio.q))
+    from math import gcd, lcm
+    return base * sp.Rational(gcd(*numerators), lcm(*denominators))
+
+
 def periodic_form(equations):
-    """Canonical form of the driven pivot's linearised equation in tau = omega t/2."""
+    """Canonical form of the driven pivot's linearised equation in tau = Omega t/2.
+
+    Omega is the fundamental frequency of the pivot's acceleration
+    (:func:`fundamental_frequency`):
+    omega for the source's drive a cos(omega t) (000, before eq. 5).  When the
+    drive is not periodic, omega is kept and the form is reported as linear.
+    """
     th_t = S.theta(S.t)
     lin = sp.expand(equations.linear)
     acc = th_t.diff(S.t, 2)
@@ -103,45 +156,48 @@ def periodic_form(equations):
     rest = sp.simplify(lin - acc - coefficient_t * th_t)
     if rest != 0:
         raise InputError(f"linearised equation has terms other than theta'' and theta: {rest}")
-    # theta(t) = Theta(tau), d^2/dt^2 = (omega/2)^2 d^2/dtau^2 (000, before eq. 5).
+    # The fundamental of the coefficient (of the pivot's acceleration y0''):
+    # y0 = a t^2 + c cos(omega t) is a periodic drive on top of a constant one.
+    found = fundamental_frequency(coefficient_t)
+    freq = S.omega if found is None else found
+    # theta(t) = Theta(tau), d^2/dt^2 = (Omega/2)^2 d^2/dtau^2 (000, before eq. 5).
     coefficient = sp.expand(sp.simplify(
-        (4 / S.omega**2) * coefficient_t.subs(S.t, 2 * S.tau / S.omega)))
+        (4 / freq**2) * coefficient_t.subs(S.t, 2 * S.tau / freq)))
     th = S.theta(S.tau)
     equation = th.diff(S.tau, 2) + coefficient * th
     spectrum = _exponential_spectrum(coefficient, S.tau)
     if spectrum is None or any(not k.is_integer for k in spectrum):
-        return PeriodicForm(equation, coefficient, "linear",
-                            note="the coefficient is not periodic with the drive period "
-                                 "2*pi/omega: neither Mathieu's nor Hill's equation")
+        return PeriodicForm(equation, coefficient, "linear", frequency=found,
+                            note=f"the coefficient is not periodic with period 2*pi/({freq}): "
+                                 "neither Mathieu's nor Hill's equation")
     period = sp.pi if all(k % 2 == 0 for k in spectrum) else 2 * sp.pi
     nonzero = sorted(k for k in spectrum if k != 0)
     fourier = _real_fourier(spectrum)
     if nonzero and nonzero != [-2, 2]:
         return PeriodicForm(equation, coefficient, "hill", fourier=fourier, period=period,
-                            note="the drive is not a single harmonic of omega: this is a Hill "
+                            frequency=freq,
+                            note=f"the drive is not a single harmonic of {freq}: this is a Hill "
                                  "equation with the Fourier coefficients given, not Mathieu's")
     theta0 = spectrum.get(sp.Integer(0), sp.Integer(0))
     if not nonzero:
         return PeriodicForm(equation, coefficient, "mathieu", theta0=theta0,
                             theta1=sp.Integer(0), fourier=fourier, period=sp.pi,
-                            note="no periodic drive term: theta1 = 0")
-    cp = spectrum[sp.Integer(2)]
-    # c_2 e^{2i tau} + c_-2 e^{-2i tau} = 2 |c_2| cos(2 tau + arg c_2) for real coefficients.
-    modulus = sp.simplify(sp.sqrt(sp.expand(cp * sp.conjugate(cp))))
-    phase = sp.simplify(sp.arg(cp)) if not sp.simplify(sp.im(cp)) == 0 else (
-        sp.Integer(0) if sp.simplify(cp).is_nonnegative or not sp.simplify(cp).is_negative
-        else sp.pi)
-    if sp.simplify(sp.im(cp)) == 0:
+                            frequency=freq, note="no periodic drive term: theta1 = 0")
+    # c_2 e^{2i tau} + c_-2 e^{-2i tau} = 2 |c_2| cos(2 tau + arg c_2) for real coefficients;
+    # expand_complex turns (-1)**(1/3) and the like into re + i im.
+    cp = sp.expand_complex(spectrum[sp.Integer(2)])
+    re_part, im_part = sp.simplify(sp.re(cp)), sp.simplify(sp.im(cp))
+    if im_part == 0:
         theta1 = sp.simplify(cp)
         shift = sp.Integer(0)
     else:
-        theta1 = modulus
-        shift = sp.simplify(-phase / 2)
+        theta1 = sp.simplify(sp.sqrt(sp.factor(sp.expand(re_part**2 + im_part**2))))
+        shift = sp.simplify(-sp.atan2(im_part, re_part) / 2)
     note = "" if shift == 0 else (
         f"Mathieu's equation in the shifted time tau - ({shift}); the drive is a "
         "phase-shifted cosine")
     return PeriodicForm(equation, coefficient, "mathieu", theta0=theta0, theta1=theta1,
-                        shift=shift, fourier=fourier, period=sp.pi, note=note)
+                        shift=shift, fourier=fourier, period=sp.pi, note=note, frequency=freq)
 
 
 # ---------------------------------------------------------------------------

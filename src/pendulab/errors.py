@@ -13,6 +13,17 @@ class InputError(PendulabError):
     """A bad argument to an API call or the command line."""
 
 
+class ParameterError(InputError):
+    """Bad parameters of a system; ``problems`` lists (parameter, message) pairs.
+
+    The message is every problem, ``parameter: message``, joined by "; ".
+    """
+
+    def __init__(self, problems):
+        self.problems = list(problems)
+        super().__init__("; ".join(f"{key}: {msg}" for key, msg in self.problems))
+
+
 class SceneError(PendulabError):
     """A scene file that cannot be used; the message names file and key."""
 

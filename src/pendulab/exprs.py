@@ -38,9 +38,46 @@ from pendulab import symbols as S
 MAX_LENGTH = 4000
 #: Deepest nesting of the syntax tree accepted.
 MAX_DEPTH = 60
-#: Largest exponent allowed when both base and exponent are numbers
-#: (``9**9**9`` would otherwise hang the parser computing an exact integer).
+#: Largest numeric exponent allowed (``t**(10**10)`` would hang the derivation).
 MAX_NUMERIC_EXPONENT = 1000
+#: Largest exact number (in bits) a power of numbers may produce
+#: (``((10**1000)**1000)**1000`` would otherwise hang the parser).
+MAX_NUMBER_BITS = 100_000
+#: Highest derivative order accepted in ``Derivative(f, (t, n))``.
+MAX_DERIVATIVE_ORDER = 20
+
+
+def _function_for(name):
+    """The undefined function called ``name`` (``theta(t)``, ``L(t)``, ...).
+
+    Functions other than pendulab's own are real (a pivot height ``y0(t)``).
+    """
+    if name == "theta":
+        return S.theta
+    if name == "L":
+        return S.L
+    return sp.Function(name, real=True)
+
+
+def _derivative(*args):
+    """``Derivative`` with a bounded order (a huge order would hang the derivation)."""
+    total = 0
+    for spec in args[1:]:
+        count = spec[1] if isinstance(spec, sp.Tuple) and len(spec) == 2 else sp.Integer(1)
+        if not (isinstance(count, sp.Integer) and count >= 0):
+            raise InputError("the order of a derivative must be a non-negative integer")
+        total += int(count)
+    if total > MAX_DERIVATIVE_ORDER:
+        raise InputError(f"derivative of order {total} is too high (limit {MAX_DERIVATIVE_ORDER})")
+    return sp.Derivative(*args)
+
+
+def _bits(x):
+    """Size in bits of an exact rational (0 for anything else)."""
+    if isinstance(x, sp.Rational):
+        return max(int(abs(x.p)).bit_length(), int(x.q).bit_length())
+    return 0
+
 
 _FUNCTIONS = {
     "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "cot": sp.cot,
@@ -50,20 +87,11 @@ _FUNCTIONS = {
     "exp": sp.exp, "log": sp.log, "sqrt": sp.sqrt, "Abs": sp.Abs,
     "sign": sp.sign, "Heaviside": sp.Heaviside,
     "besselj": sp.besselj, "bessely": sp.bessely,
-    "Derivative": sp.Derivative, "Rational": sp.Rational,
+    "Derivative": _derivative, "Rational": sp.Rational,
     "Integer": sp.Integer, "Eq": sp.Eq, "Tuple": sp.Tuple,
 }
 _CONSTANTS = {"pi": sp.pi}
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
-
-
-def _function_for(name):
-    """The undefined function called ``name`` (``theta(t)``, ``L(t)``, ...)."""
-    if name == "theta":
-        return S.theta
-    if name == "L":
-        return S.L
-    return sp.Function(name)
 
 
 def _check_name(name):
@@ -107,7 +135,11 @@ class _Builder:
             return self.namespace[name]
         if name in _FUNCTIONS:
             raise InputError(f"function {name!r} used without arguments")
-        return sp.Symbol(name)
+        if name == "theta":
+            raise InputError("'theta' is the angle, a function: write theta(t)")
+        # Symbols a user introduces (the b of a drive a*cos(omega*t) + b*sin(omega*t))
+        # are real: every quantity of these pendulums is.
+        return sp.Symbol(name, real=True)
 
     def _Tuple(self, node, d):
         return sp.Tuple(*[self.build(e, d) for e in node.elts])
@@ -137,8 +169,11 @@ class _Builder:
         if isinstance(op, ast.BitXor):
             raise InputError("'^' is not a power here (it binds looser than '*'); write '**'")
         if isinstance(op, ast.Pow):
-            if x.is_number and y.is_number and abs(y) > MAX_NUMERIC_EXPONENT:
+            if y.is_number and y.is_real and abs(y) > MAX_NUMERIC_EXPONENT:
                 raise InputError(f"numeric exponent {y} is too large (limit {MAX_NUMERIC_EXPONENT})")
+            if y.is_number and _bits(x) * abs(sp.re(y)) > MAX_NUMBER_BITS:
+                raise InputError(f"the power {sp.sstr(x)[:20]}**{y} is too large a number "
+                                 f"(limit {MAX_NUMBER_BITS} bits)")
             return x ** y
         raise InputError(f"operator {type(op).__name__} is not allowed")
 

@@ -13,7 +13,7 @@ averaging) are called by their products directly.
 
 import importlib
 
-from pendulab.errors import InputError
+from pendulab.errors import InputError, PendulabError
 
 #: product name -> module that defines OPTIONS, SYSTEMS and produce(ctx, options)
 PRODUCTS = {
@@ -104,7 +104,11 @@ def run_products(scene):
     files = {}
     for name in sorted(scene.products):
         module = product_module(name)
-        produced = module.produce(ctx, scene.products[name])
+        try:
+            produced = module.produce(ctx, scene.products[name])
+        except PendulabError as exc:
+            exc.product = name  # pendulab.build names it in the one-line error
+            raise
         for fname, text in produced.items():
             if fname in files or fname == "manifest.json":
                 raise InputError(f"product {name!r} writes {fname!r}, which another product writes")

@@ -26,7 +26,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pendulab.errors import InputError, SceneError
+from pendulab.errors import InputError, ParameterError, SceneError
 
 SYSTEMS = ("kapitza", "variable-length")
 TOP_KEYS = {"name", "system", "description", "parameters", "products"}
@@ -178,6 +178,9 @@ def parse_scene(data, path="<scene>"):
         probe.scene = Scene(str(path), name, system, description, parsed, {}, data)
         try:
             _stage_system(probe)
+        except ParameterError as exc:
+            for key, problem in exc.problems:
+                problems.add(f"parameters.{key}", problem)
         except InputError as exc:
             problems.add("parameters", str(exc))
 

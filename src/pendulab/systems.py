@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from pendulab import symbols as S
-from pendulab.errors import InputError
+from pendulab.errors import InputError, ParameterError
 
 #: Bodies and their moment of inertia about the pivot, in terms of m and l
 #: (l is the pivot-to-centre-of-mass distance).  A uniform rod of length
@@ -37,29 +37,49 @@ def _free_functions(expr):
     return {f for f in expr.atoms(sp.core.function.AppliedUndef)}
 
 
-def _check_time_expression(expr, what):
+#: Functions whose derivative in t is not an ordinary function (a kink or a
+#: jump of the pivot would give delta functions in y0'').
+_NOT_SMOOTH = (sp.Abs, sp.sign, sp.Heaviside)
+
+
+def _check_time_expression(expr):
     """Refuse expressions that involve the coordinate or functions of other than t.
 
     An undefined function of t alone (``y0(t)``) is allowed: the derivation
-    then holds for any such function.
+    then holds for any such function.  Abs, sign and Heaviside of t are
+    refused: the equations need two derivatives in t.
     """
     for f in _free_functions(expr):
         if f.func.__name__ in ("theta", "L") or f.args != (S.t,):
-            raise InputError(f"{what} may not contain {f}; functions must be of t alone "
+            raise InputError(f"may not contain {f}; functions must be of t alone "
                              "and other than theta and L")
     if expr.has(S.tau):
-        raise InputError(f"{what} must be written in t, not tau")
+        raise InputError("must be written in t, not tau")
+    for f in expr.atoms(*_NOT_SMOOTH):
+        if f.has(S.t):
+            raise InputError(f"must be twice differentiable in t; {f} is not "
+                             f"({type(f).__name__} of t has a kink or a jump)")
 
 
-def _positive_or_symbolic(value, what):
+def _positive_or_symbolic(value):
     """Refuse a number that is not positive; keep symbols (assumed positive)."""
     value = sp.sympify(value)
+    if value.has(sp.I):
+        raise InputError(f"must be a positive real quantity, got {sp.sstr(value)} "
+                         "(I here is the imaginary unit sqrt(-1))")
     if value.is_number:
         if not value.is_real or not value.is_positive:
-            raise InputError(f"{what} must be positive, got {value}")
+            raise InputError(f"must be positive, got {value}")
     elif value.is_positive is False or value.is_nonpositive:
-        raise InputError(f"{what} must be positive, got {value}")
+        raise InputError(f"must be positive, got {value}")
     return value
+
+
+def _collect(problems, key, check, *args):
+    try:
+        check(*args)
+    except InputError as exc:
+        problems.append((key, str(exc)))
 
 
 @dataclass(frozen=True)
@@ -93,29 +113,23 @@ class DrivenPivot:
     name = "kapitza"
 
     def __post_init__(self):
-        problems = []
+        problems = []  # (parameter, message): the scene names the key of each
         if self.body not in (*BODIES, "explicit"):
-            problems.append(f"body must be one of rod, point, explicit; got {self.body!r}")
+            problems.append(("body", f"must be one of rod, point, explicit; got {self.body!r}"))
         if self.angle not in ANGLE_ORIGINS:
-            problems.append(f"angle must be 'up' or 'down'; got {self.angle!r}")
+            problems.append(("angle", f"must be 'up' or 'down'; got {self.angle!r}"))
         if self.body != "explicit" and self.inertia_value is not None:
-            problems.append(f"inertia is given but body is {self.body!r} (use body='explicit')")
+            problems.append(("inertia", f"given but body is {self.body!r} (use body='explicit')"))
         drive = sp.sympify(self.drive)
-        try:
-            _check_time_expression(drive, "drive")
-        except InputError as exc:
-            problems.append(str(exc))
-        if drive.has(S.theta(S.t)):
-            problems.append("drive may not depend on theta")
+        _collect(problems, "drive", _check_time_expression, drive)
         if self.inertia_value is not None:
-            try:
-                _positive_or_symbolic(self.inertia_value, "inertia")
-            except InputError as exc:
-                problems.append(str(exc))
-            if sp.sympify(self.inertia_value).has(S.t):
-                problems.append("inertia may not depend on t")
+            inertia = sp.sympify(self.inertia_value)
+            _collect(problems, "inertia", _positive_or_symbolic, inertia)
+            if inertia.has(S.t):
+                problems.append(("inertia", "may not depend on t"))
+            _collect(problems, "inertia", _check_time_expression, inertia)
         if problems:
-            raise InputError("; ".join(problems))
+            raise ParameterError(problems)
         object.__setattr__(self, "drive", drive)
 
     # -- parameters ---------------------------------------------------------
@@ -201,16 +215,22 @@ class VariableLength:
     name = "variable-length"
 
     def __post_init__(self):
+        problems = []  # (parameter, message)
         length = sp.sympify(self.length)
-        _check_time_expression(length, "length")
-        if length.has(S.theta(S.t)):
-            raise InputError("length may not depend on theta")
+        _collect(problems, "length", _check_time_expression, length)
         at0 = length.subs(S.t, 0)
-        if at0.is_number and not at0.is_positive:
-            raise InputError(f"length must be positive at t = 0, got {at0}")
-        if at0.is_nonpositive:
-            raise InputError(f"length must be positive at t = 0, got {at0}")
-        _positive_or_symbolic(self.mass, "mass")
+        if not problems:
+            if length.has(sp.I):
+                problems.append(("length", "must be real (I here is the imaginary unit sqrt(-1))"))
+            elif (at0.is_number and not at0.is_positive) or at0.is_nonpositive:
+                problems.append(("length", f"must be positive at t = 0, got {at0}"))
+        mass = sp.sympify(self.mass)
+        _collect(problems, "mass", _positive_or_symbolic, mass)
+        if mass.has(S.t) or _free_functions(mass):
+            problems.append(("mass", "must be a constant (not a function of t): the "
+                                     "Lagrangian used here holds for a constant mass only"))
+        if problems:
+            raise ParameterError(problems)
         object.__setattr__(self, "length", length)
         object.__setattr__(self, "mass", sp.sympify(self.mass))
 

@@ -18,7 +18,8 @@ def add_parser(sub):
                    help="rod: I = 4 m l^2/3; point: I = m l^2; explicit: I from --inertia")
     k.add_argument("--inertia", metavar="EXPR", help="moment of inertia about the pivot "
                    "(with --body explicit; default the symbol I)")
-    k.add_argument("--drive", metavar="EXPR", default="a*cos(omega*t)", help="pivot height y0(t)")
+    k.add_argument("--drive", metavar="EXPR", default="a*cos(omega*t)", help="pivot height y0(t); its fundamental frequency Omega sets tau = Omega t/2 "
+                        "(write --drive=-a*cos(omega*t) when the expression starts with '-')")
     k.add_argument("--angle", choices=("up", "down"), default="up",
                    help="measure theta from the upward (source) or downward vertical")
     _formats(k)
@@ -27,7 +28,8 @@ def add_parser(sub):
         "variable-length", help="point mass on a string of length L(t) (002)",
         description="Point mass on a string of varying length (002_19b336b29bb1f03b.txt).",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    v.add_argument("--length", metavar="EXPR", default="L0 + v0*t", help="string length L(t)")
+    v.add_argument("--length", metavar="EXPR", default="L0 + v0*t",
+                   help="string length L(t) (write --length=-... when it starts with '-')")
     v.add_argument("--mass", metavar="EXPR", default="m", help="the mass")
     _formats(v)
     v.set_defaults(func=run)

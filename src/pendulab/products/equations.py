@@ -40,7 +40,8 @@ def kapitza_document(system, eqs, form):
     }
     canonical = {
         "kind": form.kind,
-        "tau": _d(S.omega * S.t / 2),
+        "drive_frequency": _d(form.frequency),
+        "tau": _d((S.omega if form.frequency is None else form.frequency) * S.t / 2),
         "equation": _d(form.equation),
         "coefficient": _d(form.coefficient),
         "note": form.note,
