@@ -25,7 +25,7 @@ LINE_WIDTH = 64
 _GREEK = r"\\(alpha|beta|gamma|delta|epsilon|theta|vartheta|lambda|mu|nu|xi|pi|rho|sigma|tau|phi|psi|omega|Omega|Theta|Delta|Lambda|Psi|Phi|mathcal\{L\}|cdot|partial|infty)"
 
 
-def _group(tex, start):
+def brace_group(tex, start):
     """(content, index after) of the brace group opening at ``tex[start]``."""
     depth = 0
     for i in range(start, len(tex)):
@@ -42,8 +42,8 @@ def visible_width(tex):
     """Approximate printed width of a math fragment, in characters."""
     i = tex.find("\\frac{")
     if i >= 0:
-        numer, j = _group(tex, i + 5)
-        denom, k = _group(tex, j)
+        numer, j = brace_group(tex, i + 5)
+        denom, k = brace_group(tex, j)
         return visible_width(tex[:i]) + max(visible_width(numer), visible_width(denom)) + 1 \
             + visible_width(tex[k:])
     t = re.sub(_GREEK, "x", tex)

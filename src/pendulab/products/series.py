@@ -16,15 +16,14 @@ Every file is byte-identical on every run.  The functions here are also used
 by ``pendulab series`` on the command line.
 """
 
+from pendulab.latex import LINE_WIDTH, brace_group  # LINE_WIDTH: widest line of visible math
+
 OPTIONS = {
     "order": (int, 8, "highest power of theta1 (and of q for the integer kinds)"),
     "kinds": (list, ["nu", "a0", "b1"],
               "'nu' for 000 eqs. 20-22, and integer kinds 'a0', 'a1', 'b1', 'b2', ... (DLMF 28.6)"),
 }
 SYSTEMS = ("kapitza",)
-
-#: widest line of math in series.tex, in characters of visible math (digits, symbols)
-LINE_WIDTH = 64
 #: highest order the product and the command accept
 MAX_PRODUCT_ORDER = 60
 
@@ -98,23 +97,13 @@ def record(kind, order):
 
 # -- LaTeX ------------------------------------------------------------------------------------
 
-def _group(tex, start):
-    """(content, end) of the brace group opening at tex[start] == "{"."""
-    depth = 0
-    for i in range(start, len(tex)):
-        depth += {"{": 1, "}": -1}.get(tex[i], 0)
-        if depth == 0:
-            return tex[start + 1:i], i + 1
-    return tex[start + 1:], len(tex)
-
-
 def _visible(tex):
     """Width of a LaTeX math fragment in characters, roughly as printed (a fraction: its wider part)."""
     import re
     i = tex.find("\\frac{")
     if i >= 0:
-        numer, j = _group(tex, i + 5)
-        denom, k = _group(tex, j)
+        numer, j = brace_group(tex, i + 5)
+        denom, k = brace_group(tex, j)
         inner = max(_visible(numer), _visible(denom))
         return _visible(tex[:i]) + inner + _visible(tex[k:]) + 2
     t = re.sub(r"\\(nu|tau|theta|alpha|cdot|quad|qquad|left|right|bigl|bigr|Bigl|Bigr)", "x", tex)
