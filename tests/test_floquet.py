@@ -115,14 +115,29 @@ def test_double_precision_returns_python_numbers():
 
 
 @pytest.mark.parametrize("family,m,theta1", [("a", 0, "0.2"), ("b", 1, "-0.2"), ("a", 1, "0.2")])
-def test_point_on_a_characteristic_curve_is_flagged(family, m, theta1):
+def test_point_on_a_curve_to_45_digits_is_resolved_at_dps_30(family, m, theta1):
+    # a 45-digit approximation of a curve is 1e-46 off it: the working precision
+    # grows (default max_dps = 180) until the side is decided; the side must be
+    # the one of the 45-digit value against the curve at 80 digits (mathieu_a/b:
+    # eigenvalue + continued fraction in a, independent of the exponent routes)
     q = "0.2" if theta1.startswith("-") else "-0.2"  # q = -theta1, exactly
     f = mathieu_a if family == "a" else mathieu_b
-    edge = f(m, q, dps=45)  # 45-digit approximation of the curve
+    edge = f(m, q, dps=45)
+    with mpmath.workdps(90):
+        above = edge > f(m, q, dps=80)
     r = characteristic_exponent(edge, theta1, dps=30)
-    assert r.on_boundary
-    assert not r.stable  # Mathieu with q != 0 has no coexistence (Ince)
-    assert abs(mpmath.re(r.lam) - m) < 1e-12
+    assert not r.on_boundary
+    assert abs(mpmath.re(r.lam) - m) < 1e-20 and 0 < abs(r.lam - m) < 1e-20
+    # verdict, lam and multipliers agree
+    assert r.stable == (mpmath.im(r.lam) == 0)
+    m1, m2 = r.multipliers
+    assert r.stable == (abs(abs(m1) - 1) < 1e-25)
+    cf = characteristic_exponent(edge, theta1, dps=30, method="cf")
+    assert cf.stable == r.stable and close(cf.lam, r.lam, 29)
+    # a_0 is the lower edge of band 0; a_1(-0.2) = b_1(0.2) and b_1(0.2) are its
+    # upper edge (DLMF 28.2.26-28.2.27 and a_0 < b_1 < a_1 for q > 0)
+    lower_edge = family == "a" and m == 0
+    assert r.stable == (above if lower_edge else not above)
 
 
 def test_near_a_curve_but_resolvable():
@@ -178,11 +193,13 @@ def test_inverse_at_and_near_integers():
         assert 0 < edge - t0 < mpmath.mpf("1e-28")  # edge approached like (1 - nu)^2
     r = characteristic_exponent(t0, "0.2", dps=40, method="cf")
     assert r.stable and not r.on_boundary and close(r.lam, nu, 39)
-    # 1e-30 from the integer the point is on the curve at 40 digits
+    # 1e-30 from the integer: still resolved at 40 digits (the distance to the
+    # curve, ~1e-60, is far above the 10^-max_dps the working precision reaches)
     with mpmath.workdps(80):
-        t0 = theta0_of_exponent(1 - mpmath.mpf("1e-30"), "0.2", dps=70)
+        nu = 1 - mpmath.mpf("1e-30")
+        t0 = theta0_of_exponent(nu, "0.2", dps=70)
     r = characteristic_exponent(t0, "0.2", dps=40, method="cf")
-    assert r.on_boundary and not r.stable and abs(r.lam - 1) < 1e-29
+    assert not r.on_boundary and r.stable and close(r.lam, nu, 39)
     assert theta0_of_exponent(0.5, 0) == 0.25
 
 

@@ -148,6 +148,9 @@ def test_comparison_reports_every_problem_at_once():
     ((0.1, 1, "eq13"), "unknown method 'eq13'"),
     ((0.1, 1, "series:x"), "series order must be an integer"),
     ((0.1, 1, "series:0"), "series order must be an integer"),
+    # series:1 used to pass parse_method and fail later with another range
+    ((0.1, 1, "series:1"), "between 2 and 40"),
+    ((0.1, 1, "series:41"), "between 2 and 40"),
     ((0.1, 1, 12), "method must be a string"),
 ])
 def test_bad_input(args, fragment):

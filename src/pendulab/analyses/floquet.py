@@ -78,7 +78,10 @@ __all__ = [
     "is_stable",
     "trace_monodromy",
     "stability_map",
+    "exponent",
     "METHODS",
+    "SIZE_LIMITS",
+    "SIZE_LIMIT",
 ]
 
 METHODS = ("hill", "cf", "monodromy")
@@ -88,6 +91,18 @@ GUARD = 10
 #: precision used when ``dps=None`` (the result is then returned as float/complex)
 DOUBLE_DPS = 16
 MAX_DPS_LIMIT = 20000
+
+#: Largest size S = |theta0| + 2|theta1| each method accepts.  The work of all
+#: three grows with sqrt(S) (cf: block and tail length; hill: number of truncated
+#: determinants and the Richardson guard digits; monodromy: Taylor steps and the
+#: growth digits).  Measured in double precision (one run, 2-core machine):
+#: hill 1.8 s at S = 2e6 (theta1 = 1e6), 9.7 s at S = 8e6; cf 3.2 s at S = 2e4,
+#: 6.1 s at S = 3e4, and a PrecisionError after 18 s at S = 2e5; monodromy
+#: 3.5 s at S = 2e3, 10 s at S = 6e3, 41 s at S = 2e4.
+SIZE_LIMITS = {"hill": 4e6, "cf": 3e4, "monodromy": 5e3}
+#: The same bound for the characteristic values (S = 2|q|), the stability limits
+#: (S = 4 ratio^2) and the vectorised functions (the largest S of the arrays).
+SIZE_LIMIT = 4e6
 
 
 # ---------------------------------------------------------------------------
@@ -160,6 +175,21 @@ def _check_dps(dps, name="dps"):
     if dps < 1 or dps > MAX_DPS_LIMIT:
         raise InputError(f"{name} must be between 1 and {MAX_DPS_LIMIT}, got {dps}")
     return dps
+
+
+def _size_text(v):
+    """Short text of an exact value that may be far beyond the float range."""
+    with mpmath.workdps(5):
+        return mpmath.nstr(_mp(v), 3)
+
+
+def _check_size(X0, X1, limit, what, names=("theta0", "theta1")):
+    """InputError when S = |X0| + 2|X1| exceeds ``limit`` (exact comparison, so
+    values beyond the float range such as 1e400 are refused, not overflowed)."""
+    size = abs(X0) + 2 * abs(X1)
+    if size > limit:
+        raise InputError(f"|{names[0]}| + 2|{names[1]}| = {_size_text(size)} is too large for "
+                         f"{what} (limit {limit:g}; the work grows like its square root)")
 
 
 def _is_zero(v):
@@ -377,36 +407,73 @@ def _illinois(f, a, b, fa, fb, tol, maxit=2000):
     raise ConvergenceError("root finder did not converge")
 
 
+def _widen_below(f, f0, w):
+    """A bracket [-h, 0] of the root of f in u when that root lies at or below 0
+    by rounding: h = 10^-w, 10^-(w-3), ... up to 1.  Returns (lo, f(lo)) or None."""
+    h = mpmath.mpf(10) ** (-w)
+    while h <= 1:
+        fh = f(-h)
+        if (fh > 0) != (f0 > 0) or fh == 0:
+            return -h, fh
+        h *= 1000
+    return None
+
+
 def _cf_u(theta0, theta1, count, w):
-    """u = (lam - e)^2 by the continued-fraction method at dps w; returns (e, u, depth)."""
+    """u = (lam - e)^2 by the continued-fraction method at dps w; returns (e, u, depth).
+
+    The characteristic function f_e(u) of edge e has, for u < 4, only the real
+    roots u = t^2 and (2 - t)^2 (t = lam - e; the others are (t + 2j)^2, j != 0,
+    -1).  Inside band k (odd count) lam = k + t, 0 < t < 1: the root t^2 of f_k
+    lies in (0, 1/4] when t <= 1/2, otherwise the root (1 - t)^2 of f_{k+1}
+    lies in (0, 1/4).  In gap k (even count) the only real root of f_k is
+    u = -mu^2 <= 0.  A point on (or within rounding of) an edge has its root at
+    u = 0 up to rounding, possibly on the "wrong" side: the bracket is then
+    widened past 0, and the caller sees the sign disagree with the count and
+    raises the working precision.
+    """
+    tol = mpmath.mpf(10) ** (-w)
+    quarter = mpmath.mpf(1) / 4
+    zero = mpmath.mpf(0)
     if count % 2 == 1:  # inside band k: lam - k in (0, 1)
         k = (count - 1) // 2
-        f = _CF(theta0, theta1, k, w + 5)
-        one = mpmath.mpf(1)
-        fa, fb = f(mpmath.mpf(0)), f(one)
-        u, _ = _illinois(f, mpmath.mpf(0), one, fa, fb, mpmath.mpf(10) ** (-w))
-        if u > mpmath.mpf(1) / 4:  # nearer the upper edge k+1: re-solve there
-            t = 1 - mpmath.sqrt(u)
-            f = _CF(theta0, theta1, k + 1, w + 5)
-            lo, hi = t * t / 2, min(t * t * 2 + mpmath.mpf(10) ** (-w // 2), one)
-            flo, fhi = f(lo), f(hi)
-            if (flo > 0) == (fhi > 0):
-                lo, hi = mpmath.mpf(0), one
-                flo, fhi = f(lo), f(hi)
-            u, _ = _illinois(f, lo, hi, flo, fhi, mpmath.mpf(10) ** (-w))
-            return k + 1, u, f.depth
-        return k, u, f.depth
+        fs = []
+        for e, top in ((k, quarter), (k + 1, 2 * quarter)):
+            f = _CF(theta0, theta1, e, w + 5)
+            f0, ft = f(zero), f(top)
+            if f0 == 0:
+                return e, zero, f.depth
+            if (f0 > 0) != (ft > 0):
+                u, _ = _illinois(f, zero, top, f0, ft, tol)
+                return e, u, f.depth
+            fs.append((e, f, f0))
+        # neither: the root is at u <= 0 within rounding for one of the two edges
+        for e, f, f0 in fs:
+            lo = _widen_below(f, f0, w)
+            if lo is not None:
+                u, _ = _illinois(f, lo[0], zero, lo[1], f0, tol)
+                return e, u, f.depth
+        raise ConvergenceError(f"cf: no root of the characteristic function in band {k} "
+                               f"at {w} digits")
     k = count // 2
     f = _CF(theta0, theta1, k, w + 5)
-    f0 = f(mpmath.mpf(0))
-    U = mpmath.mpf(1)
+    f0 = f(zero)
+    if f0 == 0:
+        return k, zero, f.depth
+    one = mpmath.mpf(1)
+    f1 = f(one)
+    if (f1 > 0) != (f0 > 0):  # root at u > 0 by rounding next to an edge
+        u, _ = _illinois(f, zero, one, f0, f1, tol)
+        return k, u, f.depth
+    U = one
     fU = f(-U)
     while (fU > 0) == (f0 > 0):
         U *= 4
         if U > mpmath.mpf(10) ** 12:
-            raise ConvergenceError("could not bracket the characteristic exponent")
+            raise ConvergenceError("cf: could not bracket the characteristic exponent "
+                                   f"in gap {k} (|mu| > 10^6)")
         fU = f(-U)
-    u, _ = _illinois(f, -U, mpmath.mpf(0), fU, f0, mpmath.mpf(10) ** (-w))
+    u, _ = _illinois(f, -U, zero, fU, f0, tol)
     return k, u, f.depth
 
 
@@ -574,13 +641,17 @@ class FloquetResult:
                  when the call had dps=None
     multipliers  (exp(i pi lam), exp(-i pi lam)), the Floquet multipliers
     stable       True when every solution is bounded
-    on_boundary  True when a characteristic curve a_n/b_n lies within the asked
-                 precision (relative 10^-dps) of theta0; ``stable`` is then the
-                 verdict on the curve itself, which does not depend on digits
-                 beyond the asked ones: unstable (a solution grows linearly; no
-                 coexistence for theta1 != 0, Ince), except theta1 = 0 with
-                 theta0 = k^2 > 0, where cos k tau and sin k tau are both bounded.
-                 lam is still the exponent of the input as given (to dps digits).
+    on_boundary  True when theta0 lies on a characteristic curve a_n/b_n to all
+                 the working precision available: theta1 = 0 and theta0 = k^2
+                 exactly, or the side of the curve cannot be decided even at
+                 max_dps (the distance is below ~10^-max_dps).  Then lam = e
+                 exactly (true to 10^-dps absolute), the multipliers are
+                 (-1)^e twice and ``stable`` is the verdict on the curve: unstable
+                 (a solution grows linearly; no coexistence for theta1 != 0,
+                 Ince), except theta1 = 0 with theta0 = k^2 > 0, where cos k tau
+                 and sin k tau are both bounded.  A point merely close to a curve
+                 is resolved (the working precision grows) and gets the verdict
+                 of its side, so lam, multipliers and verdict always agree.
     depth        truncation depth used (cf: Fourier index |n| reached; hill: number
                  of truncated determinants extrapolated; monodromy: Taylor order)
     method, dps  as asked; working_dps is the precision finally used
@@ -620,14 +691,6 @@ def _core(method, X0, X1, w):
     return count, e, u, depth
 
 
-def _near_edge(X0, X1, dps, w):
-    """True when a characteristic value lies within relative 10^-dps of theta0."""
-    with mpmath.workdps(w):
-        x0, x1 = _mp(X0), _mp(X1)
-        delta = mpmath.mpf(10) ** (-dps) * max(1, abs(x0))
-        return _edge_count(x0 - delta, x1, w) != _edge_count(x0 + delta, x1, w)
-
-
 def _finish(lam, dps, out_dps):
     with mpmath.workdps(out_dps + 5):
         mults = (mpmath.expjpi(lam), mpmath.expjpi(-lam))
@@ -664,6 +727,9 @@ def characteristic_exponent(theta0, theta1, dps=None, method="hill", max_dps=Non
     """
     if method not in METHODS:
         raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if _is_array(theta0) or _is_array(theta1):
+        raise InputError("characteristic_exponent takes scalars; for arrays use "
+                         "exponent(theta0, theta1) (vectorised, double precision)")
     dps = _check_dps(dps)
     X0, X1 = _exact(theta0, "theta0"), _exact(theta1, "theta1")
     want = DOUBLE_DPS if dps is None else dps
@@ -672,67 +738,65 @@ def characteristic_exponent(theta0, theta1, dps=None, method="hill", max_dps=Non
     else:
         max_dps = _check_dps(max_dps, "max_dps")
 
-    # theta1 = 0: lam = sqrt(theta0) exactly
+    _check_size(X0, X1, SIZE_LIMITS[method], f"method {method!r}")
+
+    # theta1 = 0: lam = sqrt(theta0) exactly; on a curve only at theta0 = k^2 exactly
     if _is_zero(X1):
         with mpmath.workdps(want + GUARD):
             x0 = _mp(X0)
             lam = mpmath.sqrt(x0) if x0 >= 0 else mpmath.mpc(0, mpmath.sqrt(-x0))
-        k = _is_int_square(X0)
-        on_b = k is not None
-        if not on_b:
-            with mpmath.workdps(want + GUARD):
-                r = mpmath.sqrt(abs(_mp(X0)))
-                on_b = X0 >= 0 and abs(r - mpmath.nint(r)) <= mpmath.mpf(10) ** (-want) * max(1, r)
+        on_b = _is_int_square(X0) is not None
         stable = bool(X0 > 0)
         edge = int(mpmath.nint(mpmath.re(lam)))
         lam_out, mults = _finish(lam, dps, want)
         return FloquetResult(lam_out, mults, stable, bool(on_b), 0, method, dps,
                              want + GUARD, edge)
 
-    on_b = _near_edge(X0, X1, want, want + GUARD)
+    # u = (lam - e)^2 is computed at two working precisions w < w2.  Its sign (the
+    # verdict) is *decided* when both agree on the band, on the sign, with the
+    # count, and differ by less than |u|/2; it is *resolved* when they also agree
+    # to want + 3 digits.  Otherwise the working precision grows up to max_dps.
+    # If even there the sign cannot be decided while |u| is below 10^-(2 want),
+    # theta0 lies on the curve to all the digits available: on_boundary, lam = e.
     w = want + GUARD
     tiny = mpmath.mpf(10) ** (-(want + 3))
+    on_b = False
     while True:
         c1, e1, u1, _ = _core(method, X0, X1, w)
         w2 = w + 12
         c2, e2, u2, depth = _core(method, X0, X1, w2)
         with mpmath.workdps(w2):
-            consistent = (c1 == c2 and e1 == e2 and (u2 > 0) == (c2 % 2 == 1)
-                          and (u1 > 0) == (u2 > 0))
             err = abs(u1 - u2)
-            if on_b:
-                # on a curve at the asked precision: lam to dps digits (absolute)
-                # is all that is meaningful; the verdict is the curve's
-                resolved = c1 == c2 and e1 == e2 and err <= tiny * min(1, abs(u2) ** 0.5 + tiny)
-            else:
-                resolved = consistent and err <= tiny * abs(u2)
-        if resolved:
-            count, e, u = c2, e2, u2
-            break
-        if w2 + 12 > max_dps:
-            if on_b:
-                # the point is on a characteristic curve at the precision asked
-                count, e = c2, e2
-                u = mpmath.mpf(0)
+            decided = (c1 == c2 and e1 == e2 and u1 != 0 and u2 != 0
+                       and (u1 > 0) == (u2 > 0) == (c2 % 2 == 1) and 2 * err < abs(u2))
+            if decided and err <= tiny * abs(u2):
+                count, e, u = c2, e2, u2
                 break
-            raise PrecisionError(
-                f"dps={want} cannot resolve the exponent at theta0={theta0}, "
-                f"theta1={theta1} with method {method!r} within max_dps={max_dps} "
-                f"(two working precisions differ by {mpmath.nstr(err, 3)}); "
-                f"raise max_dps or use method='cf'")
+            if w2 + 12 > max_dps:
+                if not decided and abs(u2) + err <= mpmath.mpf(10) ** (-2 * want):
+                    count, e, u, on_b = c2, e2, mpmath.mpf(0), True
+                    break
+                what = ("the digits of the exponent" if decided
+                        else "on which side of a characteristic curve the point lies")
+                raise PrecisionError(
+                    f"dps={want} cannot resolve {what} at theta0={theta0}, "
+                    f"theta1={theta1} with method {method!r} within max_dps={max_dps} "
+                    f"(two working precisions differ by {mpmath.nstr(err, 3)} in "
+                    f"u = (lam - {e2})^2 = {mpmath.nstr(u2, 3)}); raise max_dps")
         w = min(max(w + 12, 2 * w - want), max_dps - 12)
 
     with mpmath.workdps(w2):
-        if u >= 0:
+        if on_b:
+            # on the curve: lam = e to 10^-want absolute; for theta1 != 0 the
+            # curve itself is unstable (no coexistence, Ince): a solution grows
+            # linearly; multipliers (-1)^e twice
+            lam, stable = mpmath.mpf(e), False
+        elif u > 0:
             # lam above the edge when the count says band e (count = 2e+1)
             sign = 1 if count == 2 * e + 1 else -1
-            lam = e + sign * mpmath.sqrt(u) if u != 0 else mpmath.mpf(e)
-            stable = u > 0
+            lam, stable = e + sign * mpmath.sqrt(u), True
         else:
-            lam = mpmath.mpc(e, mpmath.sqrt(-u))
-            stable = False
-        if u == 0 or on_b:
-            stable = False  # on a curve with theta1 != 0: no coexistence (Ince)
+            lam, stable = mpmath.mpc(e, mpmath.sqrt(-u)), False
     lam_out, mults = _finish(lam, dps, want)
     return FloquetResult(lam_out, mults, bool(stable), bool(on_b), int(depth), method,
                          dps, int(w2), int(e))
@@ -816,6 +880,7 @@ def _char_value(kind, m, q, dps):
         raise InputError(f"{name}: order m must be >= 1, got {m}")
     dps = _check_dps(dps)
     Q = _exact(q, "q")
+    _check_size(m * m, Q, SIZE_LIMIT, name, names=("m^2", "q"))
     want = DOUBLE_DPS if dps is None else dps
     family, j = _family_of(kind, m)
     if Q == 0:
@@ -876,15 +941,30 @@ def theta0_of_exponent(nu, theta1, dps=None):
     it is the root of the continued-fraction characteristic function
     (000 eq. 10) in theta0 between the band edges.  For integer nu it is the
     characteristic value a_nu(q) with q = -theta1 (DLMF's convention: lambda_n
-    = a_n); the other edge of that instability gap is b_nu(q).
+    = a_n); the other edge of that instability gap is b_nu(q).  As nu tends to
+    an integer n from below (above) the answer tends to the lower (upper) edge
+    of gap n, min(a_n, b_n) (max(a_n, b_n)) at |q|: the curve jumps by the gap
+    width at integer nu, and lambda_n = a_n is one of the two one-sided limits.
+
+    nu and theta1 may be numpy arrays (broadcast against each other) when
+    dps=None: the result is then a float array computed by the vectorised
+    double-precision routine (see :func:`exponent`).  Raises InputError when
+    nu^2 + 2|theta1| exceeds ``SIZE_LIMITS["cf"]`` (``SIZE_LIMIT`` for arrays).
 
     >>> float(theta0_of_exponent(0.5, 0))
     0.25
     """
+    if _is_array(nu) or _is_array(theta1):
+        if dps is not None:
+            raise InputError("theta0_of_exponent: arrays are handled in double precision "
+                             "only (dps=None); loop over the points for dps digits")
+        return _theta0_of_exponent_array(nu, theta1)
     dps = _check_dps(dps)
     NU, X1 = _exact(nu, "nu"), _exact(theta1, "theta1")
     if NU < 0:
         NU = -NU
+    _check_size(NU * NU, X1, SIZE_LIMITS["cf"], "theta0_of_exponent",
+                names=("nu^2", "theta1"))
     want = DOUBLE_DPS if dps is None else dps
     if X1 == 0:
         with mpmath.workdps(want + GUARD):
@@ -902,32 +982,64 @@ def theta0_of_exponent(nu, theta1, dps=None):
     absq = abs(X1)
     w = want + GUARD
     while True:
-        vals = []
-        for ww in (w, w + 10):
-            with mpmath.workdps(ww):
-                k = int(mpmath.floor(_mp(NU)))
-                qmp = _mp(absq)
-                lo = _edge_value(k, qmp, ww, upper=True) if k > 0 else _char_value_mp("a_even", 0, qmp, ww)
-                hi = _edge_value(k + 1, qmp, ww, upper=False)
-                nu_m = _mp(NU)
-                e = int(mpmath.nint(nu_m))
-                t = nu_m - e
-                u = t * t
-                x1 = _mp(X1)
-                f = _CF(hi, x1, e, ww + 5)
-                g = lambda th0: f(u, x0=th0)  # noqa: E731
-                root, _ = _illinois(g, lo, hi, g(lo), g(hi), mpmath.mpf(10) ** (-ww) * max(1, abs(hi)))
-                vals.append(root)
+        vals = [_theta0_of_exponent_mp(NU, X1, absq, ww) for ww in (w, w + 10)]
         with mpmath.workdps(w + 10):
             if abs(vals[0] - vals[1]) <= mpmath.mpf(10) ** (-(want + 2)) * max(1, abs(vals[1])):
                 break
         if w > 4 * want + 100:
-            raise PrecisionError(f"theta0_of_exponent({nu}, {theta1}) not resolved to {want} digits")
+            raise PrecisionError(f"theta0_of_exponent({nu}, {theta1}) not resolved to "
+                                 f"{want} digits within {w + 10} working digits")
         w *= 2
     if dps is None:
         return float(vals[1])
     with mpmath.workdps(want):
         return +vals[1]
+
+
+def _theta0_of_exponent_mp(NU, X1, absq, ww):
+    """The root in theta0 of the cf function with u = (nu - e)^2 fixed, at dps ww.
+
+    The root lies in the band [lo, hi] between the edges.  When nu is within
+    ~10^-ww/2 of an integer, or the band is thinner than the rounding (|q| large,
+    widths ~exp(-4 sqrt|q|), DLMF 28.8.2), the end values of the cf function are
+    rounding noise and need not differ in sign; the bracket is then widened
+    symmetrically about the edge E that nu approaches, by 10^-ww |E|, 10^-ww+1
+    |E|, ...: the root found is within rounding of the true one, and the caller
+    compares two working precisions.
+    """
+    with mpmath.workdps(ww):
+        nu_m = _mp(NU)
+        k = int(mpmath.floor(nu_m))
+        qmp = _mp(absq)
+        lo = _edge_value(k, qmp, ww, upper=True) if k > 0 else _char_value_mp("a_even", 0, qmp, ww)
+        hi = _edge_value(k + 1, qmp, ww, upper=False)
+        if lo > hi:  # a band thinner than the rounding
+            lo, hi = hi, lo
+        e = int(mpmath.nint(nu_m))
+        t = nu_m - e
+        u = t * t
+        f = _CF(hi, _mp(X1), e, ww + 5)
+
+        def g(th0):
+            return f(u, x0=th0)
+
+        scale = max(1, abs(hi))
+        tol = mpmath.mpf(10) ** (-ww) * scale
+        glo, ghi = g(lo), g(hi)
+        if (glo > 0) != (ghi > 0) or glo == 0 or ghi == 0:
+            root, _ = _illinois(g, lo, hi, glo, ghi, tol)
+            return root
+        E = hi if e == k + 1 else lo
+        h = tol
+        while h <= scale:
+            a, b = E - h, E + h
+            ga, gb = g(a), g(b)
+            if (ga > 0) != (gb > 0) or ga == 0 or gb == 0:
+                root, _ = _illinois(g, a, b, ga, gb, tol)
+                return root
+            h *= 10
+        raise ConvergenceError(f"theta0_of_exponent: no root of the characteristic function "
+                               f"near the band edge {mpmath.nstr(E, 8)} at {ww} digits")
 
 
 def _edge_value(k, absq, w, upper):
@@ -965,6 +1077,9 @@ def stability_limits(ratio, inertia_ratio=1, dps=None):
         raise InputError(f"ratio = omega0/omega must be >= 0, got {ratio}")
     if IR <= 0:
         raise InputError(f"inertia_ratio = I/(m l^2) must be > 0, got {inertia_ratio}")
+    if 4 * R * R > SIZE_LIMIT:
+        raise InputError(f"ratio = omega0/omega must be <= {math.sqrt(SIZE_LIMIT / 4):g} "
+                         f"(|theta0| = 4 ratio^2 <= {SIZE_LIMIT:g}), got {ratio}")
     want = DOUBLE_DPS if dps is None else dps
     w = want + GUARD
     while True:
@@ -1041,7 +1156,206 @@ def _check_arrays(theta0, theta1):
         raise InputError("theta0 and theta1 must be real numbers or arrays of them") from None
     if not (np.all(np.isfinite(x0)) and np.all(np.isfinite(x1))):
         raise InputError("theta0 and theta1 must be finite (no nan or inf)")
-    return np.broadcast_arrays(x0, x1)
+    try:
+        x0, x1 = np.broadcast_arrays(x0, x1)
+    except ValueError:
+        raise InputError(f"theta0 and theta1 cannot be broadcast together "
+                         f"(shapes {x0.shape} and {x1.shape})") from None
+    if x0.size:
+        size = float(np.max(np.abs(x0) + 2.0 * np.abs(x1)))
+        if size > SIZE_LIMIT:
+            raise InputError(f"|theta0| + 2|theta1| = {size:.3g} is too large for the "
+                             f"vectorised functions (limit {SIZE_LIMIT:g})")
+    return x0, x1
+
+
+def _is_array(x):
+    """True for inputs the vectorised routines take (numpy arrays, lists, tuples)."""
+    import numpy as np
+    return isinstance(x, (np.ndarray, list, tuple))
+
+
+def _bands_double(f0, f1):
+    """For flat float arrays theta0, theta1: the number of characteristic values
+    below each theta0 and the values just below and above it (-inf/inf at the
+    ends), from one eigenproblem per distinct |theta1| (see :func:`is_stable`)."""
+    import numpy as np
+
+    absq = np.abs(f1)
+    cnt = np.zeros(f0.shape, dtype=int)
+    below = np.full(f0.shape, -np.inf)
+    above = np.full(f0.shape, np.inf)
+    if f0.size == 0:
+        return cnt, below, above
+    qs, inverse = np.unique(absq, return_inverse=True)
+    for i, q in enumerate(qs):
+        idx = np.nonzero(inverse == i)[0]
+        th = f0[idx]
+        # reach beyond the next edge above every theta0 (edges near n^2 lie
+        # within ~2|q| + 2n of it)
+        reach = (math.sqrt(max(float(th.max()), 0.0) + 2.0 * float(q)) + 3.0) ** 2
+        edges = _edges_double(float(q), reach)
+        c = np.searchsorted(edges, th, side="left")
+        cnt[idx] = c
+        below[idx] = np.where(c > 0, edges[np.clip(c - 1, 0, edges.size - 1)], -np.inf)
+        above[idx] = np.where(c < edges.size, edges[np.clip(c, 0, edges.size - 1)], np.inf)
+    return cnt, below, above
+
+
+def exponent(theta0, theta1):
+    """Vectorised characteristic exponent lam of 000 eq. 7 in double precision.
+
+    theta0, theta1 broadcast against each other; returns a complex array of the
+    broadcast shape with the same unfolded lam as :func:`characteristic_exponent`
+    (real in (k, k+1) in the k-th stable band, k + i mu in the k-th gap, i mu
+    below a_0; ``.real`` is the exponent in the bands).
+
+    The band index comes from the count of characteristic values below theta0
+    (eigenvalues of the DLMF 28.4 matrices, as in :func:`is_stable`) and fixes
+    the branch; the trace y = cos(pi lam) comes from Hill's determinant
+    (:func:`trace_monodromy`).  Near a band edge E with exponent e, lam - e
+    would follow from 1 - (-1)^e y, which cancels; it is taken instead as
+    d = (-1)^e (y(E) - y(theta0)) with y(E) computed by the same routine, so
+    that the (smooth) truncation error of the trace cancels too:
+    d = 2 sin^2(pi (lam - e)/2) in a band, -2 sinh^2(pi mu/2) in a gap.
+    Accuracy (measured against 25-digit characteristic_exponent on random
+    points, tests/test_floquet_vectorised.py): about 1e-9 absolute in lam for
+    |theta0|, |theta1| <= 20, also next to the edges (where lam itself depends
+    on theta0 like a square root: an input error of 1e-16 moves it by ~1e-8).
+    Points whose trace overflows a double (|Im lam| > ~200) are computed one by
+    one with characteristic_exponent (double precision, method "hill").
+    """
+    import numpy as np
+
+    x0, x1 = _check_arrays(theta0, theta1)
+    shape = x0.shape
+    f0, f1 = x0.ravel().astype(float), x1.ravel().astype(float)
+    out = np.zeros(f0.shape, dtype=complex)
+    if f0.size == 0:
+        return out.reshape(shape)
+    cnt, below, above = _bands_double(f0, f1)
+    y = trace_monodromy(f0, f1) / 2.0
+    band = cnt % 2 == 1
+    k = np.where(band, (cnt - 1) // 2, cnt // 2)
+    # edge e and its theta0-value E: in band k the lower edge (e = k) when
+    # (-1)^k y >= 0 (lam - k <= 1/2), else the upper one (e = k + 1); in gap k
+    # (e = k) the nearer of its two edges
+    sk = np.where(k % 2 == 0, 1.0, -1.0)
+    lower_half = sk * y >= 0
+    e = np.where(band, np.where(lower_half, k, k + 1), k)
+    near_below = np.abs(f0 - below) <= np.abs(above - f0)
+    E = np.where(band, np.where(lower_half, below, above), np.where(near_below, below, above))
+    E = np.where(np.isfinite(E), E, f0)  # below a_0 with no edge below: any finite value
+    yE = trace_monodromy(E, f1) / 2.0
+    se = np.where(e % 2 == 0, 1.0, -1.0)
+    with np.errstate(invalid="ignore", over="ignore"):
+        d = se * (yE - y)
+        t = 2.0 / np.pi * np.arcsin(np.sqrt(np.clip(d, 0.0, 2.0) / 2.0))
+        mu = 2.0 / np.pi * np.arcsinh(np.sqrt(np.maximum(-d, 0.0) / 2.0))
+    sign = np.where(e == k, 1.0, -1.0)
+    out = np.where(band, e + sign * t + 0j, e + 1j * mu)
+    bad = ~(np.isfinite(y) & np.isfinite(yE) & (np.abs(y) < 1e300))
+    for i in np.nonzero(bad)[0]:
+        out[i] = complex(characteristic_exponent(float(f0[i]), float(f1[i])).lam)
+    return out.reshape(shape)
+
+
+def _char_values_double(theta1_values, kind_order):
+    """a_n(q) or b_n(q), q = -theta1, for each distinct theta1 (double precision).
+
+    kind_order: list of ("a"|"b", n); returns dict (theta1, kind, n) -> value."""
+    import numpy as np
+    from scipy.linalg import eigvalsh_tridiagonal
+
+    out = {}
+    top = max(n for _, n in kind_order) if kind_order else 0
+    for th1 in np.unique(theta1_values):
+        q = -float(th1)
+        size = float(top * top) + 2.0 * abs(q)
+        m0 = _edge_index(size, q)
+        n = m0 // 2 + top // 2 + _tail_steps(size, q, m0, 18) + 3
+        vals = {}
+        for fam in FAMILIES:
+            d, e2 = _family_diagonals(fam, q, n, 1.0)
+            vals[fam] = np.sort(eigvalsh_tridiagonal(np.asarray(d, float),
+                                                     np.sqrt(np.asarray(e2, float))))
+        for kind, m in kind_order:
+            fam, j = _family_of(kind, m)
+            out[(float(th1), kind, m)] = float(vals[fam][j])
+    return out
+
+
+def _theta0_of_exponent_array(nu, theta1):
+    """Vectorised theta0_of_exponent in double precision (see its docstring).
+
+    Non-integer nu: bisection in the band [lo, hi] (edges from :func:`_bands_double`
+    at the band's midpoint count) on d(theta0) = d*, with d the edge-referenced
+    trace difference of :func:`exponent` and d* = 2 sin^2(pi (nu - e)/2) for the
+    integer e nearest nu; d is monotone in the band.  Integer nu: a_nu(q), q = -theta1.
+    """
+    import numpy as np
+
+    try:
+        n_arr = np.abs(np.asarray(nu, dtype=float))
+        t_arr = np.asarray(theta1, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("nu and theta1 must be real numbers or arrays of them") from None
+    if not (np.all(np.isfinite(n_arr)) and np.all(np.isfinite(t_arr))):
+        raise InputError("nu and theta1 must be finite (no nan or inf)")
+    try:
+        n_arr, t_arr = np.broadcast_arrays(n_arr, t_arr)
+    except ValueError:
+        raise InputError(f"nu and theta1 cannot be broadcast together "
+                         f"(shapes {n_arr.shape} and {t_arr.shape})") from None
+    shape = n_arr.shape
+    fn, f1 = n_arr.ravel().copy(), t_arr.ravel().copy()
+    out = np.empty(fn.shape)
+    if fn.size == 0:
+        return out.reshape(shape)
+    size = float(np.max(fn * fn + 2.0 * np.abs(f1)))
+    if size > SIZE_LIMIT:
+        raise InputError(f"|nu^2| + 2|theta1| = {size:.3g} is too large for the "
+                         f"vectorised functions (limit {SIZE_LIMIT:g})")
+    zero_q = f1 == 0
+    is_int = (fn == np.floor(fn)) & ~zero_q
+    out[zero_q] = fn[zero_q] ** 2
+    if np.any(is_int):
+        ii = np.nonzero(is_int)[0]
+        orders = sorted({("a", int(v)) for v in fn[ii]})
+        vals = _char_values_double(f1[ii], orders)
+        out[ii] = [vals[(float(t), "a", int(v))] for t, v in zip(f1[ii], fn[ii])]
+    todo = np.nonzero(~zero_q & ~is_int)[0]
+    if todo.size:
+        nu_t, q_t = fn[todo], f1[todo]
+        k = np.floor(nu_t).astype(int)
+        e = np.rint(nu_t).astype(int)
+        # band edges: the (2k+1)-th and (2k+2)-th characteristic values at |q|
+        lo = np.empty(todo.size)
+        hi = np.empty(todo.size)
+        for q in np.unique(np.abs(q_t)):
+            idx = np.nonzero(np.abs(q_t) == q)[0]
+            top = float((k[idx].max() + 1) ** 2) + 2.0 * q + 1.0
+            edges = _edges_double(float(q), top)
+            lo[idx] = edges[2 * k[idx]]
+            hi[idx] = edges[2 * k[idx] + 1]
+        E = np.where(e == k, lo, hi)
+        se = np.where(e % 2 == 0, 1.0, -1.0)
+        yE = trace_monodromy(E, q_t) / 2.0
+        target = 2.0 * np.sin(np.pi * (nu_t - e) / 2.0) ** 2
+        # d(theta0) - target is > 0 on the side of E's far end: orient so that
+        # phi = (d - target) * orient is increasing in theta0
+        orient = np.where(e == k, 1.0, -1.0)
+        a, b = lo.copy(), hi.copy()
+        for _ in range(200):
+            mid = 0.5 * (a + b)
+            d = se * (yE - trace_monodromy(mid, q_t) / 2.0)
+            phi = (d - target) * orient
+            a = np.where(phi < 0, mid, a)
+            b = np.where(phi < 0, b, mid)
+            if np.all(b - a <= 4e-16 * np.maximum(1.0, np.abs(mid))):
+                break
+        out[todo] = 0.5 * (a + b)
+    return out.reshape(shape)
 
 
 def is_stable(theta0, theta1, rtol=1e-12):

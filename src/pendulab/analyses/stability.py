@@ -33,11 +33,14 @@ from fractions import Fraction
 
 from pendulab.errors import InputError, PendulabError
 
-#: The fixed method names; "series:N" (N a positive integer) is accepted too.
+#: The fixed method names; "series:N" (MIN_SERIES_ORDER <= N <= MAX_SERIES_ORDER) is accepted too.
 METHODS = ("exact", "eq12", "eq19", "eq19-corrected", "eq28")
 #: Methods of the comparison table when none are named.
 DEFAULT_METHODS = ("exact", "eq12", "eq19", "eq19-corrected", "eq28", "series:4")
-#: Highest series order accepted (the series module's own limits apply as well).
+#: Orders of "series:N" accepted.  The stability interval needs the series to
+#: order 2 at least (eq. 28 is order 2; stability_interval_series refuses 1),
+#: so the range here is the one that function accepts, capped at 40.
+MIN_SERIES_ORDER = 2
 MAX_SERIES_ORDER = 40
 #: Largest omega0/omega and I/(m l^2) accepted: beyond them the limits of a/l
 #: exceed 1e6 and the closed forms overflow double precision.
@@ -96,9 +99,9 @@ def parse_method(method):
         return method, None
     if method.startswith("series:"):
         text = method[len("series:"):]
-        if not text.isdigit() or not 1 <= int(text) <= MAX_SERIES_ORDER:
+        if not text.isdigit() or not MIN_SERIES_ORDER <= int(text) <= MAX_SERIES_ORDER:
             raise InputError(f"method {method!r}: the series order must be an integer "
-                             f"between 1 and {MAX_SERIES_ORDER}")
+                             f"between {MIN_SERIES_ORDER} and {MAX_SERIES_ORDER}")
         return "series", int(text)
     raise InputError(f"unknown method {method!r} (known: {', '.join(METHODS)}, series:N)")
 

@@ -9,10 +9,14 @@ def add_parser(sub):
         description="Floquet exponent lambda of theta'' + (theta0 + 2 theta1 cos 2tau) theta = 0 "
                     "(000 eq. 7), its multipliers exp(+-i pi lambda) and the stable/unstable "
                     "verdict.  X and Y are exact decimals or fractions (\"-0.002\", \"1/5\"), "
-                    "read at the working precision.",
+                    "read at the working precision.  A negative value that is not a plain "
+                    "decimal (\"-1/5\", \"-1e-3\") must be attached with '=': "
+                    "--theta0=-1/5.  Size limit: |theta0| + 2|theta1| <= 4e6 (hill), "
+                    "3e4 (cf), 5e3 (monodromy).",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    p.add_argument("--theta0", required=True, help="theta0 = -4 omega0^2/omega^2 (000 eq. 5)")
-    p.add_argument("--theta1", required=True, help="theta1 = 2 a l m / I (000 eq. 6)")
+    p.add_argument("--theta0", required=True, help="theta0 = -4 omega0^2/omega^2 (000 eq. 5); write --theta0=-1/5 for negative "
+                        "fractions")
+    p.add_argument("--theta1", required=True, help="theta1 = 2 a l m / I (000 eq. 6); --theta1=-1/5 likewise")
     p.add_argument("--dps", type=int, default=None,
                    help="decimal digits (default: double precision)")
     p.add_argument("--method", choices=("hill", "cf", "monodromy"), default="hill",
@@ -34,7 +38,7 @@ def run(args):
         return 0
     verdict = "stable" if rec["stable"] else "unstable"
     if rec["on_boundary"]:
-        verdict += " (on a stability boundary at this precision)"
+        verdict += " (on a stability boundary to all the working precision)"
     digits = "double precision" if rec["dps"] is None else f"{rec['dps']} digits"
     print(f"theta0 = {rec['theta0']}, theta1 = {rec['theta1']}  ({rec['method']}, {digits}, "
           f"depth {rec['depth']})")

@@ -19,7 +19,7 @@ def add_parser(sub):
     p.add_argument("--ratio", metavar="W0_OVER_W", required=True,
                    help="omega0/omega, a number >= 0")
     p.add_argument("--method", default="exact", metavar="METHOD",
-                   help="exact, eq12, eq19, eq19-corrected, eq28 or series:N")
+                   help="exact, eq12, eq19, eq19-corrected, eq28 or series:N (2 <= N <= 40)")
     p.add_argument("--json", action="store_true", help="print a JSON record")
     p.set_defaults(func=run)
     return p
