@@ -1146,21 +1146,29 @@ def _edges_double(absq, theta0_max):
     return np.sort(np.concatenate(out))
 
 
+def _real_arrays(x, y, names):
+    """Two finite float arrays broadcast together; one-line InputError otherwise."""
+    import numpy as np
+
+    a, b = names
+    try:
+        xa = np.asarray(x, dtype=float)
+        ya = np.asarray(y, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{a} and {b} must be real numbers or arrays of them") from None
+    if not (np.all(np.isfinite(xa)) and np.all(np.isfinite(ya))):
+        raise InputError(f"{a} and {b} must be finite (no nan or inf)")
+    try:
+        return np.broadcast_arrays(xa, ya)
+    except ValueError:
+        raise InputError(f"{a} and {b} cannot be broadcast together "
+                         f"(shapes {xa.shape} and {ya.shape})") from None
+
+
 def _check_arrays(theta0, theta1):
     import numpy as np
 
-    try:
-        x0 = np.asarray(theta0, dtype=float)
-        x1 = np.asarray(theta1, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError("theta0 and theta1 must be real numbers or arrays of them") from None
-    if not (np.all(np.isfinite(x0)) and np.all(np.isfinite(x1))):
-        raise InputError("theta0 and theta1 must be finite (no nan or inf)")
-    try:
-        x0, x1 = np.broadcast_arrays(x0, x1)
-    except ValueError:
-        raise InputError(f"theta0 and theta1 cannot be broadcast together "
-                         f"(shapes {x0.shape} and {x1.shape})") from None
+    x0, x1 = _real_arrays(theta0, theta1, ("theta0", "theta1"))
     if x0.size:
         size = float(np.max(np.abs(x0) + 2.0 * np.abs(x1)))
         if size > SIZE_LIMIT:
@@ -1295,18 +1303,8 @@ def _theta0_of_exponent_array(nu, theta1):
     """
     import numpy as np
 
-    try:
-        n_arr = np.abs(np.asarray(nu, dtype=float))
-        t_arr = np.asarray(theta1, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError("nu and theta1 must be real numbers or arrays of them") from None
-    if not (np.all(np.isfinite(n_arr)) and np.all(np.isfinite(t_arr))):
-        raise InputError("nu and theta1 must be finite (no nan or inf)")
-    try:
-        n_arr, t_arr = np.broadcast_arrays(n_arr, t_arr)
-    except ValueError:
-        raise InputError(f"nu and theta1 cannot be broadcast together "
-                         f"(shapes {n_arr.shape} and {t_arr.shape})") from None
+    n_arr, t_arr = _real_arrays(nu, theta1, ("nu", "theta1"))
+    n_arr = np.abs(n_arr)
     shape = n_arr.shape
     fn, f1 = n_arr.ravel().copy(), t_arr.ravel().copy()
     out = np.empty(fn.shape)
