@@ -20,6 +20,7 @@ form x^2 y'' + (1 - 2 alpha) x y' + (alpha^2 - beta^2 p^2 + beta^2 k^2 x^(2 beta
 """
 
 from dataclasses import dataclass, field
+from math import gcd, lcm
 
 import sympy as sp
 
@@ -59,12 +60,17 @@ class PeriodicForm:
     frequency: sp.Expr = S.omega
 
 
+def _as_exponentials(expr):
+    """``expr`` with trigonometric functions as exponentials, products of them combined."""
+    return sp.expand(sp.powsimp(sp.expand(expr.rewrite(sp.exp)), combine="exp"))
+
+
 def _exponential_spectrum(expr, var):
     """Write ``expr`` as sum c_k exp(i k var); return {k: c_k} or None.
 
     None when some term is not of that form (k must be a number).
     """
-    expanded = sp.expand(sp.powsimp(sp.expand(expr.rewrite(sp.exp)), combine="exp"))
+    expanded = _as_exponentials(expr)
     spectrum = {}
     for term in sp.Add.make_args(expanded):
         coeff, dep = term.as_independent(var, as_Add=False)
@@ -115,7 +121,7 @@ def fundamental_frequency(expr):
     >>> fundamental_frequency(S.a*sp.cos(S.omega*S.t/2) + S.a*sp.sin(3*S.omega*S.t/4))
     omega/4
     """
-    expanded = sp.expand(sp.powsimp(sp.expand(sp.sympify(expr).rewrite(sp.exp)), combine="exp"))
+    expanded = _as_exponentials(sp.sympify(expr))
     rates = []
     for atom in expanded.atoms(sp.exp):
         if not atom.has(S.t):
@@ -135,7 +141,6 @@ def fundamental_frequency(expr):
             return None
         numerators.append(int(ratio.p))
         denominators.append(int(ratio.q))
-    from math import gcd, lcm
     return base * sp.Rational(gcd(*numerators), lcm(*denominators))
 
 
