@@ -8,6 +8,7 @@ of the equation.
 """
 
 import math
+import warnings
 from fractions import Fraction
 
 import mpmath
@@ -384,6 +385,88 @@ def test_refuses_beyond_the_radius():
     with pytest.warns(AccuracyWarning):
         a0.evaluate(1.5, on_domain="warn")
     assert a0.evaluate(1.4)[0] < 0
+
+
+def _exact_theta0(nu_value, t1):
+    """theta0 with characteristic exponent nu (pendulab.analyses.floquet: Hill's matrix, not the series)."""
+    from pendulab.analyses import floquet
+    return floquet.theta0_of_exponent(nu_value, t1)
+
+
+def test_refusal_beyond_the_radius_at_every_order_of_either_parity():
+    """nu = 0.9, theta1 = 0.3 lies beyond the radius (the partial sums run away from the true theta0).
+
+    The old check compared the last two nonzero terms and let even orders through
+    (1.6, -8.6, 316 at N = 10, 20, 30 without a word).
+    """
+    exact = _exact_theta0(0.9, 0.3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        errs = [abs(se.theta0_of_nu(0.9, 0.3, n, on_domain="warn")[0] - exact) for n in (10, 20, 30)]
+    assert errs[0] < errs[1] < errs[2] and errs[2] > 100      # really divergent
+    for n in range(1, 31):
+        with pytest.raises(SeriesDomainError, match="radius"):
+            se.theta0_of_nu(0.9, 0.3, n)
+        for f in (se.theta_c, se.theta_s):
+            with pytest.raises(SeriesDomainError, match="radius"):
+                f(0.7, 0.9, 0.3, n)
+    with pytest.raises(SeriesDomainError, match="radius"):
+        se.theta_c("0.7", "0.9", "0.3", 10, dps=30)
+
+
+@pytest.mark.parametrize("order", [1, 2, 3])
+def test_orders_with_one_term_are_checked_too(order):
+    """With at most one nonzero term there is nothing to compare; the look-ahead terms decide."""
+    for nu_value, t1 in ((0.5, 50.0), (0.5, 3.0)):
+        with pytest.raises(SeriesDomainError, match="radius"):
+            se.theta0_of_nu(nu_value, t1, order)
+        with pytest.raises(SeriesDomainError, match="radius"):
+            se.theta0_of_nu(nu_value, t1, order, dps=20)
+
+
+def test_no_false_refusal_at_small_theta1_for_any_order():
+    """Odd orders used to be refused at nu = 0.7, theta1 = 0.01 (c_N and c_{N-1} differ in size)."""
+    exact = _exact_theta0(0.7, 0.01)
+    for n in range(1, 31):
+        value, est = se.theta0_of_nu(0.7, 0.01, n)
+        assert abs(value - exact) <= 2 * est + 1e-14
+        for f in (se.theta_c, se.theta_s):
+            v, e = f(0.7, 0.9, 0.01, n)
+            assert math.isfinite(v) and e < 1e-3
+    v5, _ = se.theta_c(0.7, 0.9, 0.01, 5)
+    v30, _ = se.theta_c(0.7, 0.9, 0.01, 30)
+    assert abs(v5 - v30) < 1e-9
+
+
+@pytest.mark.parametrize("order", [2, 5, 12, 25])
+def test_accepted_values_are_within_their_estimate_on_random_points(order):
+    """Seeded random (nu, theta1); Floquet's theta0 (an independent method) is the reference.
+
+    Every accepted value lies within twice its estimate (plus the reference's own
+    rounding); refusals are real: at every refused point the truncated sum is
+    off by more than 1e-8 relative.
+    """
+    rng = np.random.default_rng(20261122)
+    nus = rng.uniform(0.02, 5.98, 600)
+    nus = nus[np.abs(nus - np.round(nus)) > 1e-3]
+    t1s = np.exp(rng.uniform(np.log(1e-3), np.log(30.0), nus.size))
+    exact = _exact_theta0(nus, t1s)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        values, ests = se.theta0_of_nu(nus, t1s, order, on_domain="warn")
+    refused = np.zeros(nus.size, dtype=bool)
+    for i in range(nus.size):
+        try:
+            se.theta0_of_nu(nus[i], t1s[i], order)
+        except SeriesDomainError:
+            refused[i] = True
+    err = np.abs(values - exact)
+    slack = 1e-10 * np.maximum(1.0, np.abs(exact))
+    assert 0.2 < refused.mean() < 0.5                     # the sample spans both sides
+    assert np.all(err[~refused] <= 2 * ests[~refused] + slack[~refused])
+    assert np.all(err[refused] > 1e-8 * np.maximum(1.0, np.abs(exact[refused])))
+    with pytest.raises(SeriesDomainError, match=r"element \d+"):
+        se.theta0_of_nu(nus, t1s, order)
 
 
 @pytest.mark.parametrize("call,fragment", [

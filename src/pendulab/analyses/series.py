@@ -395,10 +395,11 @@ def characteristic_series(kind, order):
 # Numbers from the series
 # =====================================================================================
 
-def _domain(message, on_domain):
+def _domain(message, on_domain, stacklevel=3):
+    """Raise SeriesDomainError, or warn (AccuracyWarning) pointing at the user's call."""
     if on_domain == "raise":
         raise SeriesDomainError(message)
-    warnings.warn(message, AccuracyWarning, stacklevel=3)
+    warnings.warn(message, AccuracyWarning, stacklevel=stacklevel)
 
 
 def _check_dps(dps):
@@ -450,7 +451,7 @@ def _mpf(value, name):
     return result
 
 
-def _prepare(nu, theta1, dps, on_domain, order, allow_zero=True):
+def _prepare(nu, theta1, dps, on_domain, order, allow_zero=True, depth=1):
     _check_order(order)
     _check_on_domain(on_domain)
     if dps is None:
@@ -469,7 +470,7 @@ def _prepare(nu, theta1, dps, on_domain, order, allow_zero=True):
             v = float(nu_b[bad].flat[0])
             _domain(f"nu = {v!r} is within {INTEGER_TOLERANCE:g} of the integer {round(v)}: the "
                     f"series (000 sec. 3) is singular there; use the integer-order series "
-                    f"(characteristic_series)", on_domain)
+                    f"(characteristic_series)", on_domain, stacklevel=3 + depth)
         return nu_b.astype(float), t1_b.astype(float)
     import mpmath
     _check_dps(dps)
@@ -479,85 +480,128 @@ def _prepare(nu, theta1, dps, on_domain, order, allow_zero=True):
     if abs(nu_m - k) < INTEGER_TOLERANCE and (k != 0 or not allow_zero):
         _domain(f"nu = {mpmath.nstr(nu_m, 15)} is within {INTEGER_TOLERANCE:g} of the integer "
                 f"{int(k)}: the series (000 sec. 3) is singular there; use the integer-order "
-                f"series (characteristic_series)", on_domain)
+                f"series (characteristic_series)", on_domain, stacklevel=3 + depth)
     return nu_m, t1_m
 
 
-def _ratio_check(last, prev, what, on_domain):
-    """Refuse (or warn) when the last nonzero terms do not decrease: beyond the radius."""
+def _lookahead(order):
+    """Order K up to which the evaluators compute terms beyond the requested ``order``.
+
+    The extra orders are evaluated numerically only (never symbolically) and
+    serve two purposes: the truncation estimate is the size of what orders
+    order+1 .. K add, and the series is refused where those terms grow.
+    """
+    return order + min(40, max(8, order // 2, 16 - order))
+
+
+def _first_index(mask):
     import numpy as np
-    with np.errstate(divide="ignore", invalid="ignore"):
-        bad = np.asarray(last) >= np.asarray(prev)
-        bad &= np.asarray(last) > 0
-    if np.any(bad):
-        _domain(f"{what}: the terms of the series do not decrease (last/previous >= 1), so "
-                f"theta1 is beyond the radius of convergence at this nu; lower theta1 or the order",
-                on_domain)
+    return tuple(int(i[0]) for i in np.nonzero(np.asarray(mask)))
+
+
+def _divergence_check(first, last, order, K, what, nu, theta1, on_domain, depth=1):
+    """Refuse (or warn) where the omitted terms grow: theta1 beyond the radius of convergence.
+
+    ``first`` is the larger of the sizes of the orders order+1 and order+2
+    (one of each parity, since even and odd orders differ in size), ``last``
+    the same for K-1 and K.  Inside the radius the terms fall geometrically,
+    so ``last`` < ``first``; growth (or an overflow) over the K - order
+    further orders means the sum diverges.  The radius itself is not
+    tabulated for non-integer nu and shrinks to 0 as nu nears an integer.
+    """
+    import numpy as np
+    first = np.asarray(first, dtype=float)
+    last = np.asarray(last, dtype=float)
+    with np.errstate(invalid="ignore"):
+        bad = ~np.isfinite(first) | ~np.isfinite(last) | ((last >= first) & (last > 0))
+    if not np.any(bad):
+        return
+    idx = _first_index(bad) if np.ndim(bad) else ()
+    f, l_ = float(first[idx]), float(last[idx])
+    nu_v = float(np.broadcast_to(np.asarray(nu, dtype=float), np.shape(bad))[idx])
+    t1_v = float(np.broadcast_to(np.asarray(theta1, dtype=float), np.shape(bad))[idx])
+    where = f" (element {idx[0] if len(idx) == 1 else idx})" if idx else ""
+    _domain(f"{what}: theta1 = {t1_v:.6g} is beyond the radius of convergence at nu = {nu_v:.6g}"
+            f"{where}: the terms of the series grow from orders {order + 1}-{order + 2} (size "
+            f"{f:.2g}) to orders {K - 1}-{K} (size {l_:.2g}); lower theta1", on_domain, stacklevel=3 + depth)
 
 
 def theta0_of_nu(nu, theta1, order, dps=None, on_domain="raise"):
-    """theta0 = nu^2 + sum_{n<=order} alpha_n(nu) theta1^n (000 eq. 20) and a truncation estimate.
+    """theta0 = nu^2 + sum_{n<=order} alpha_n theta1^n (000 eq. 20) and a truncation estimate.
 
     ``dps=None``: numpy, vectorised over (broadcast) arrays ``nu``, ``theta1``;
     otherwise mpmath at ``dps`` digits (scalars).  Returns ``(value,
-    estimate)``, the estimate being |alpha_N theta1^N| for the last nonzero
-    term.  nu within 1e-6 of a nonzero integer (poles of the alpha_n) or a
-    theta1 where the last two nonzero terms do not decrease (beyond the radius
-    of convergence) raise :class:`~pendulab.errors.SeriesDomainError`; with
+    estimate)``.  The terms of orders N+1 .. K (K = :func:`_lookahead` (N),
+    e.g. 16 for N <= 8, 36 for N = 24) are evaluated numerically as well; the
+    estimate is the larger of what they add together and the largest of them.
+
+    nu within 1e-6 of a nonzero integer (poles of the alpha_n), and a theta1
+    at which those further terms grow (beyond the radius of convergence),
+    raise :class:`~pendulab.errors.SeriesDomainError`; with
     ``on_domain="warn"`` an :class:`~pendulab.errors.AccuracyWarning` is
     issued instead and the truncated value returned.
 
-    >>> v, est = theta0_of_nu(0.5, 0.1, 2)           # 000 eq. 27: 0.25 + 0.01/(2*(0.25-1))
-    >>> round(v, 12), round(est, 12)
-    (0.243333333333, 0.006666666667)
+    >>> v, est = theta0_of_nu(0.5, 0.1, 2)      # 000 eq. 27: 0.25 + 0.01/(2*(0.25-1))
+    >>> round(v, 12), est < 2e-5                # the next term, alpha_4 theta1^4, is -1.4e-5
+    (0.243333333333, True)
     """
     nu_v, t1_v = _prepare(nu, theta1, dps, on_domain, order)
-    even = [n for n in range(2, order + 1, 2)]
+    K = _lookahead(order)
     if dps is None:
         import numpy as np
         with np.errstate(all="ignore"):
-            alpha, _ = _numeric_recursion(nu_v, order, np.zeros_like(nu_v), np.ones_like(nu_v))
-            terms = [alpha[n] * t1_v**n for n in even]
-            value = nu_v**2 + sum(terms, np.zeros_like(nu_v))
-            est = np.abs(terms[-1]) if terms else np.zeros_like(nu_v)
-            if len(terms) >= 2:
-                _ratio_check(np.abs(terms[-1]), np.abs(terms[-2]), "theta0_of_nu", on_domain)
+            alpha, _ = _numeric_recursion(nu_v, K, np.zeros_like(nu_v), np.ones_like(nu_v))
+            terms = [alpha[n] * t1_v**n for n in range(K + 1)]
+            value = nu_v**2 + sum(terms[2:order + 1], np.zeros_like(nu_v))
+            further = terms[order + 1:]
+            est = np.maximum(np.abs(sum(further, np.zeros_like(nu_v))),
+                             np.max(np.abs(further), axis=0))
+            _divergence_check(np.maximum(abs(terms[order + 1]), abs(terms[order + 2])),
+                              np.maximum(abs(terms[K - 1]), abs(terms[K])),
+                              order, K, "theta0_of_nu", nu_v, t1_v, on_domain)
         if np.ndim(value) == 0:
             return float(value), float(est)
         return value, est
     import mpmath
     with mpmath.workdps(dps + 15):
-        alpha, _ = _numeric_recursion(nu_v, order, mpmath.mpf(0), mpmath.mpf(1))
-        terms = [alpha[n] * t1_v**n for n in even]
-        value = nu_v**2 + mpmath.fsum(terms)
-        est = abs(terms[-1]) if terms else mpmath.mpf(0)
-        if len(terms) >= 2:
-            _ratio_check(float(abs(terms[-1])), float(abs(terms[-2])), "theta0_of_nu", on_domain)
+        alpha, _ = _numeric_recursion(nu_v, K, mpmath.mpf(0), mpmath.mpf(1))
+        terms = [alpha[n] * t1_v**n for n in range(K + 1)]
+        value = nu_v**2 + mpmath.fsum(terms[2:order + 1])
+        further = terms[order + 1:]
+        est = max(abs(mpmath.fsum(further)), max(abs(t) for t in further))
+        _divergence_check(float(max(abs(terms[order + 1]), abs(terms[order + 2]))),
+                          float(max(abs(terms[K - 1]), abs(terms[K]))),
+                          order, K, "theta0_of_nu", float(nu_v), float(t1_v), on_domain)
     with mpmath.workdps(dps):
         return +value, +est
 
 
 def _solution(kind, tau, nu, theta1, order, dps, on_domain):
-    nu_v, t1_v = _prepare(nu, theta1, dps, on_domain, order, allow_zero=(kind == "cos"))
+    nu_v, t1_v = _prepare(nu, theta1, dps, on_domain, order, allow_zero=(kind == "cos"), depth=2)
+    K = _lookahead(order)
+    what = f"theta_{kind[0]}"
     if dps is None:
         import numpy as np
         try:
             tau_a = np.asarray(tau, dtype=float)
         except (TypeError, ValueError):
             raise InputError("tau must be a real number or an array of them") from None
+        if not np.all(np.isfinite(tau_a)):
+            raise InputError("tau must be finite")
         nu_b, t1_b, tau_b = np.broadcast_arrays(nu_v, t1_v, tau_a)
         f = np.cos if kind == "cos" else np.sin
         with np.errstate(all="ignore"):
-            _, c = _numeric_recursion(nu_b, order, np.zeros_like(nu_b), np.ones_like(nu_b))
+            _, c = _numeric_recursion(nu_b, K, np.zeros_like(nu_b), np.ones_like(nu_b))
             value = f(nu_b * tau_b)
-            sizes = []
             for n in range(1, order + 1):
-                part = sum((v * f((nu_b + 2 * k) * tau_b) for k, v in c[n].items()), np.zeros_like(nu_b))
-                value = value + t1_b**n * part
-                sizes.append(np.abs(t1_b)**n * sum((np.abs(v) for v in c[n].values()), np.zeros_like(nu_b)))
-            est = sizes[-1]
-            if len(sizes) >= 2:
-                _ratio_check(sizes[-1], sizes[-2], f"theta_{kind[0]}", on_domain)
+                value = value + t1_b**n * sum((v * f((nu_b + 2 * k) * tau_b) for k, v in c[n].items()),
+                                              np.zeros_like(nu_b))
+            # sizes[n]: |theta1|^n sum_k |C[n][k]|, a bound of order n's contribution at every tau
+            sizes = {n: np.abs(t1_b)**n * sum((np.abs(v) for v in c[n].values()), np.zeros_like(nu_b))
+                     for n in range(order + 1, K + 1)}
+            est = sum(sizes.values(), np.zeros_like(nu_b))
+            _divergence_check(np.maximum(sizes[order + 1], sizes[order + 2]),
+                              np.maximum(sizes[K - 1], sizes[K]), order, K, what, nu_b, t1_b, on_domain, 2)
         if np.ndim(value) == 0:
             return float(value), float(est)
         return value, est
@@ -565,15 +609,15 @@ def _solution(kind, tau, nu, theta1, order, dps, on_domain):
     with mpmath.workdps(dps + 15):
         tau_m = _mpf(tau, "tau")
         f = mpmath.cos if kind == "cos" else mpmath.sin
-        _, c = _numeric_recursion(nu_v, order, mpmath.mpf(0), mpmath.mpf(1))
+        _, c = _numeric_recursion(nu_v, K, mpmath.mpf(0), mpmath.mpf(1))
         value = f(nu_v * tau_m)
-        sizes = []
         for n in range(1, order + 1):
             value += t1_v**n * mpmath.fsum(v * f((nu_v + 2 * k) * tau_m) for k, v in c[n].items())
-            sizes.append(abs(t1_v)**n * mpmath.fsum(abs(v) for v in c[n].values()))
-        if len(sizes) >= 2:
-            _ratio_check(float(sizes[-1]), float(sizes[-2]), f"theta_{kind[0]}", on_domain)
-        est = sizes[-1]
+        sizes = {n: abs(t1_v)**n * mpmath.fsum(abs(v) for v in c[n].values())
+                 for n in range(order + 1, K + 1)}
+        est = mpmath.fsum(sizes.values())
+        _divergence_check(float(max(sizes[order + 1], sizes[order + 2])), float(max(sizes[K - 1], sizes[K])),
+                          order, K, what, float(nu_v), float(t1_v), on_domain, 2)
     with mpmath.workdps(dps):
         return +value, +est
 
@@ -582,7 +626,8 @@ def theta_c(tau, nu, theta1, order, dps=None, on_domain="raise"):
     """theta_c(tau) = cos(nu tau) + sum_{n<=order} c_n(tau) theta1^n (000 eq. 21), with an estimate.
 
     Same conventions as :func:`theta0_of_nu`; the estimate is
-    |theta1|^N sum_k |C[N][k]|, a bound of the last order's contribution.
+    sum_{order < n <= K} |theta1|^n sum_k |C[n][k]|, which bounds what the
+    orders order+1 .. K add at any tau.
     """
     return _solution("cos", tau, nu, theta1, order, dps, on_domain)
 
