@@ -252,8 +252,83 @@ def test_radii_from_dlmf_table_28_6_1():
     assert se.characteristic_series("a3", 4).radius == 3.769957494
     assert se.characteristic_series("b2", 4).radius == 6.9289547588
     assert se.characteristic_series("a4", 4).radius == 7.2681468935
-    s = se.characteristic_series("a40", 2)
-    assert s.radius is None and "not tabulated" in s.radius_source
+    # last row of the table, n = 7: rho_7^(1) (a_14), rho_7^(2) (b_16), rho_7^(3) (a_15, b_15)
+    assert se.characteristic_series("a14", 2).radius == 95.4752727072
+    assert se.characteristic_series("b16", 2).radius == 125.435411314
+    assert se.characteristic_series("b15", 2).radius == 110.02736921
+    assert se.RADII["b16"] == 125.435411314 and len(se.RADII) == 32   # a0..a15, b1..b16
+    for kind in ("a16", "b17", "a40"):
+        s = se.characteristic_series(kind, 2)
+        assert s.radius is None and "not tabulated" in s.radius_source and kind not in se.RADII
+
+
+def test_integer_series_extend_instead_of_recomputing():
+    eng = se._CharEngine("b", 1)
+    calls = []
+    original = eng._next
+
+    def counting():
+        calls.append(eng.order + 1)
+        original()
+
+    eng._next = counting
+    eng.extend(10)
+    kept = list(eng.lam)
+    eng.extend(25)
+    eng.extend(7)
+    assert calls == list(range(1, 26))            # each order computed once
+    assert all(a is b for a, b in zip(eng.lam, kept))
+    fresh = se._CharEngine("b", 1)
+    fresh.extend(25)
+    assert fresh.lam == eng.lam
+    # the public function keeps one engine per kind and grows it
+    se.characteristic_series("a9", 6)
+    engine = se._CHAR_ENGINES[("a", 9)]
+    se.characteristic_series("a9", 3)
+    assert engine.order >= 6
+    s = se.characteristic_series("a9", 30)
+    assert se._CHAR_ENGINES[("a", 9)] is engine and engine.order >= 30 and len(s.coefficients) == 31
+
+
+def _characteristic_reference(kind, q):
+    """a_m(q), b_m(q) from SciPy 1.17.1 at |q|, using DLMF 28.2.26 for q < 0."""
+    from scipy.special import mathieu_a, mathieu_b
+    letter, m = kind[0], int(kind[1:])
+    if q < 0 and m % 2 == 1:
+        letter = "b" if letter == "a" else "a"        # a_{2n+1}(-q) = b_{2n+1}(q)
+    return (mathieu_a if letter == "a" else mathieu_b)(m, abs(q))
+
+
+@pytest.mark.parametrize("kind,order", [("a0", 4), ("a0", 20), ("b1", 6), ("b1", 30), ("a3", 12), ("b4", 9)])
+def test_integer_estimate_covers_the_error_inside_the_radius(kind, order):
+    s = se.characteristic_series(kind, order)
+    rng = np.random.default_rng(28_6)
+    qs = rng.uniform(-0.98 * s.radius, 0.98 * s.radius, 80)
+    values, ests = s.evaluate(qs)
+    for q, v, e in zip(qs, values, ests):
+        ref = _characteristic_reference(kind, q)
+        assert abs(v - ref) <= 2 * e + 1e-12 * max(1.0, abs(ref)), q
+
+
+def test_untabulated_kinds_are_checked_by_the_growth_of_their_terms():
+    """a_16 and b_19 are not in DLMF Table 28.6.1; values are checked against Hill's method."""
+    from pendulab.analyses import floquet
+    for kind, q in (("a16", 12.0), ("b19", -30.0)):
+        s = se.characteristic_series(kind, 16)
+        value, est = s.evaluate(q)
+        ref = float((floquet.mathieu_a if kind[0] == "a" else floquet.mathieu_b)(int(kind[1:]), q))
+        assert abs(value - ref) <= 2 * est + 1e-12 * abs(ref)
+    s = se.characteristic_series("a16", 10)
+    with pytest.raises(SeriesDomainError, match="not in DLMF Table 28.6.1"):
+        s.evaluate(1e4)
+    with pytest.raises(SeriesDomainError, match=r"element 1"):
+        s.evaluate(np.array([12.0, 1e4]))
+    with pytest.raises(SeriesDomainError):
+        s.evaluate("1e4", dps=20)
+    with pytest.warns(AccuracyWarning):
+        value, est = s.evaluate(1e4, on_domain="warn")
+    ref = float(floquet.mathieu_a(16, 1e4))
+    assert abs(value - ref) > 1e6 and est > 1e6      # the refused sum is far off, and says so
 
 
 # SciPy 1.17.1: scipy.special.mathieu_a(m, q), mathieu_b(m, q) (DLMF conventions) at small q

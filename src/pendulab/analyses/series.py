@@ -99,7 +99,7 @@ def _table_radius(letter, m):
 
 #: kind -> radius (DLMF Table 28.6.1) for every tabulated kind
 RADII = {f"{letter}{m}": _table_radius(letter, m)
-         for letter in "ab" for m in range(0 if letter == "a" else 1, 16)
+         for letter in "ab" for m in range(0 if letter == "a" else 1, 17)
          if _table_radius(letter, m) is not None}
 
 
@@ -257,58 +257,77 @@ def _parse_kind(kind):
     return letter, m
 
 
-def _basis_action(letter, m, size):
-    """Indices s (frequencies) of the parity class of (letter, m), and V with 2 cos 2z phi_s = sum_t V[t][s] phi_t.
+def _action(letter, s):
+    """2 cos 2z phi_s = sum_t V[t] phi_t for phi_s = cos(s z) ("a") or sin(s z) ("b"), s >= 0.
 
-    phi_s = cos(s z) for letter "a", sin(s z) for "b"; s runs over the
-    frequencies of m's parity (s >= 1 for sines).
+    From 2 cos 2z cos sz = cos(s+2)z + cos(s-2)z and the same with sines, with
+    cos(-x) = cos x, sin(-x) = -sin x and sin 0 = 0.
     """
-    start = m % 2 if letter == "a" else (2 - m % 2 if m % 2 == 0 else 1)
-    freqs = list(range(start, start + 2 * size, 2))
-    pos = {s: i for i, s in enumerate(freqs)}
-    action = {}
-    for s in freqs:
-        out = {}
-        for t, sign in ((s + 2, 1), (s - 2, 1)):
-            # 2 cos 2z cos sz = cos(s+2)z + cos(s-2)z; same with sines (DLMF 4.21.2-4.21.3 style identities)
-            if t < 0:
-                t, sign = -t, (1 if letter == "a" else -1)   # cos(-x) = cos x, sin(-x) = -sin x
-            if letter == "b" and t == 0:
-                continue                                         # sin 0 = 0
-            if t in pos:
-                out[t] = out.get(t, 0) + sign
-        action[s] = out
-    return freqs, action
+    out = {}
+    for t in (s + 2, s - 2):
+        sign = 1
+        if t < 0:
+            t, sign = -t, (1 if letter == "a" else -1)
+        if letter == "b" and t == 0:
+            continue
+        out[t] = out.get(t, 0) + sign
+    return out
 
 
-def _characteristic_coefficients(letter, m, order):
-    """Exact q-power coefficients of a_m(q) or b_m(q) up to q^order (Rayleigh-Schroedinger)."""
-    freqs, action = _basis_action(letter, m, m // 2 + order + 3)
-    # a w = -w'' + 2 q cos 2z w on span{phi_s}: D = diag(s^2), perturbation q V.
-    lam = [Fraction(m * m)]
-    x = [{m: Fraction(1)}]                      # x_n: dict frequency -> coefficient
-    for n in range(1, order + 1):
+class _CharEngine:
+    """Rayleigh-Schroedinger orders of a_m(q) or b_m(q); grows on demand, never recomputes.
+
+    On span{phi_s} (the frequencies s of m's parity class, DLMF 28.4) the
+    equation w'' + (a - 2q cos 2z) w = 0 reads a w = D w + q V w with D =
+    diag(s^2) and V the action of 2 cos 2z.  With intermediate normalisation
+    (the phi_m component of every correction is 0):
+
+        lam_n = (V x_{n-1})_m,
+        x_n[t] = (sum_{p=1}^{n-1} lam_p x_{n-p}[t] - (V x_{n-1})_t) / (t^2 - m^2),  t != m.
+
+    x_n is supported on the frequencies within 2n of m, so no basis truncation
+    is needed and the orders already computed are final.
+    """
+
+    def __init__(self, letter, m):
+        self.letter, self.m = letter, m
+        self.lam = [Fraction(m * m)]
+        self.x = [{m: Fraction(1)}]
+        self.lock = threading.Lock()
+
+    @property
+    def order(self):
+        return len(self.lam) - 1
+
+    def extend(self, order):
+        with self.lock:
+            while self.order < order:
+                self._next()
+
+    def _next(self):
+        letter, m, lam, x = self.letter, self.m, self.lam, self.x
+        n = self.order + 1
         vx = {}
         for s, v in x[n - 1].items():
-            for t, w in action[s].items():
+            for t, w in _action(letter, s).items():
                 vx[t] = vx.get(t, 0) + w * v
-        lam_n = vx.get(m, Fraction(0))
-        lam.append(lam_n)
-        xn = {}
+        lam.append(vx.get(m, Fraction(0)))
         support = set(vx)
         for p in range(1, n):
             support.update(x[n - p])
+        xn = {}
         for t in support:
             if t == m:
                 continue
             acc = -vx.get(t, 0)
             for p in range(1, n):
                 if lam[p]:
-                    acc += lam[p] * x[n - p].get(t, 0)
+                    v = x[n - p].get(t)
+                    if v:
+                        acc += lam[p] * v
             if acc:
                 xn[t] = Fraction(acc) / (t * t - m * m)
         x.append(xn)
-    return lam
 
 
 class CharacteristicSeries:
@@ -337,22 +356,37 @@ class CharacteristicSeries:
     def evaluate(self, q, dps=None, on_domain="raise"):
         """(value, truncation estimate) at ``q`` (float/array, or mpmath at ``dps`` digits).
 
-        Beyond the radius of convergence raises SeriesDomainError, or with
-        ``on_domain="warn"`` returns the truncated sum with an AccuracyWarning.
+        As for :func:`theta0_of_nu`, the orders N+1 .. K (K = :func:`_lookahead` (N))
+        are evaluated too (from the cached exact coefficients) and the estimate
+        is the larger of what they add and the largest of them.  |q| at or
+        beyond the radius of DLMF Table 28.6.1 raises SeriesDomainError (or,
+        with ``on_domain="warn"``, returns the truncated sum with an
+        AccuracyWarning); for kinds the table does not cover, growth of those
+        further terms is taken as the sign of a q beyond the radius.
         """
         _check_on_domain(on_domain)
-        coeffs = [self.coefficients[p] for p in range(self.order + 1)]
+        N, K = self.order, _lookahead(self.order)
+        coeffs = characteristic_series(self.kind, K).coefficients
+        table = f"{self.kind}: |q| = {{}} is beyond the radius of convergence {self.radius} (DLMF Table 28.6.1)"
         if dps is None:
             import numpy as np
-            qa = np.asarray(q, dtype=float)
+            try:
+                qa = np.asarray(q, dtype=float)
+            except (TypeError, ValueError):
+                raise InputError(f"q must be a real number or an array of them, got {q!r}") from None
+            if not np.all(np.isfinite(qa)):
+                raise InputError("q must be finite")
             if self.radius is not None and np.any(np.abs(qa) >= self.radius):
-                _domain(f"{self.kind}: |q| = {float(np.max(np.abs(qa))):g} is beyond the radius of "
-                        f"convergence {self.radius} (DLMF Table 28.6.1)", on_domain)
-            value = np.zeros_like(qa)
-            for c in reversed(coeffs):
-                value = value * qa + float(c)
-            last = max((p for p, c in enumerate(coeffs) if c and p), default=0)
-            est = np.abs(float(coeffs[last]) * qa**last) if last else np.zeros_like(qa)
+                _domain(table.format(f"{float(np.max(np.abs(qa))):g}"), on_domain)
+            with np.errstate(all="ignore"):
+                value = np.zeros_like(qa)
+                for p in range(N, -1, -1):
+                    value = value * qa + float(coeffs[p])
+                further = [float(coeffs[p]) * qa**p for p in range(N + 1, K + 1)]
+                est = np.maximum(np.abs(sum(further, np.zeros_like(qa))), np.max(np.abs(further), axis=0))
+                if self.radius is None:
+                    self._growth_check(np.maximum(abs(further[0]), abs(further[1])),
+                                       np.maximum(abs(further[-2]), abs(further[-1])), qa, K, on_domain)
             if np.ndim(q) == 0:
                 return float(value), float(est)
             return value, est
@@ -361,21 +395,40 @@ class CharacteristicSeries:
         with mpmath.workdps(dps + 10):
             qm = _mpf(q, "q")
             if self.radius is not None and abs(qm) >= self.radius:
-                _domain(f"{self.kind}: |q| = {mpmath.nstr(abs(qm), 8)} is beyond the radius of "
-                        f"convergence {self.radius} (DLMF Table 28.6.1)", on_domain)
+                _domain(table.format(mpmath.nstr(abs(qm), 8)), on_domain)
             value = mpmath.mpf(0)
-            for c in reversed(coeffs):
-                value = value * qm + mpmath.mpf(c.numerator) / c.denominator
-            last = max((p for p, c in enumerate(coeffs) if c and p), default=0)
-            est = abs(mpmath.mpf(coeffs[last].numerator) / coeffs[last].denominator * qm**last) if last else mpmath.mpf(0)
+            for p in range(N, -1, -1):
+                value = value * qm + mpmath.mpf(coeffs[p].numerator) / coeffs[p].denominator
+            further = [mpmath.mpf(coeffs[p].numerator) / coeffs[p].denominator * qm**p
+                       for p in range(N + 1, K + 1)]
+            est = max(abs(mpmath.fsum(further)), max(abs(t) for t in further))
+            if self.radius is None:
+                self._growth_check(float(max(abs(further[0]), abs(further[1]))),
+                                   float(max(abs(further[-2]), abs(further[-1]))), float(qm), K, on_domain)
         return +value, +est
 
+    def _growth_check(self, first, last, q, K, on_domain):
+        import numpy as np
+        bad = _growing(first, last)
+        if np.any(bad):
+            idx = _first_index(bad) if np.ndim(bad) else ()
+            where = f" (element {idx[0] if len(idx) == 1 else idx})" if idx else ""
+            _domain(f"{self.kind}: q = {float(np.asarray(q)[idx]):.6g}{where} is beyond the radius of "
+                    f"convergence (not in DLMF Table 28.6.1 for this kind): the terms of the series grow "
+                    f"from orders {self.order + 1}-{self.order + 2} (size {float(np.asarray(first)[idx]):.2g}) "
+                    f"to orders {K - 1}-{K} (size {float(np.asarray(last)[idx]):.2g}); lower |q|",
+                    on_domain, stacklevel=4)
 
-_CHAR_CACHE = {}
+
+_CHAR_ENGINES = {}
+_CHAR_ENGINES_LOCK = threading.Lock()
 
 
 def characteristic_series(kind, order):
     """a_m(q) ("a<m>") or b_m(q) ("b<m>") to q^order, exact (DLMF 28.6; see :class:`CharacteristicSeries`).
+
+    Cached per kind: a later call with a higher order extends the orders
+    already computed instead of starting again.
 
     >>> s = characteristic_series("b1", 3)       # DLMF 28.6.3: 1 - q - q^2/8 + q^3/64
     >>> [str(s.coefficients[p]) for p in range(4)], s.radius
@@ -383,12 +436,10 @@ def characteristic_series(kind, order):
     """
     letter, m = _parse_kind(kind)
     _check_order(order)
-    key = (letter, m)
-    cached = _CHAR_CACHE.get(key)
-    if cached is None or len(cached) <= order:
-        cached = _characteristic_coefficients(letter, m, max(order, 2 * len(cached or ())))
-        _CHAR_CACHE[key] = cached
-    return CharacteristicSeries(f"{letter}{m}", order, {p: cached[p] for p in range(order + 1)})
+    with _CHAR_ENGINES_LOCK:
+        engine = _CHAR_ENGINES.setdefault((letter, m), _CharEngine(letter, m))
+    engine.extend(order)
+    return CharacteristicSeries(f"{letter}{m}", order, {p: engine.lam[p] for p in range(order + 1)})
 
 
 # =====================================================================================
@@ -499,6 +550,15 @@ def _first_index(mask):
     return tuple(int(i[0]) for i in np.nonzero(np.asarray(mask)))
 
 
+def _growing(first, last):
+    """True where the later terms (``last``) are not smaller than the earlier (``first``), or overflow."""
+    import numpy as np
+    first = np.asarray(first, dtype=float)
+    last = np.asarray(last, dtype=float)
+    with np.errstate(invalid="ignore"):
+        return ~np.isfinite(first) | ~np.isfinite(last) | ((last >= first) & (last > 0))
+
+
 def _divergence_check(first, last, order, K, what, nu, theta1, on_domain, depth=1):
     """Refuse (or warn) where the omitted terms grow: theta1 beyond the radius of convergence.
 
@@ -510,14 +570,11 @@ def _divergence_check(first, last, order, K, what, nu, theta1, on_domain, depth=
     tabulated for non-integer nu and shrinks to 0 as nu nears an integer.
     """
     import numpy as np
-    first = np.asarray(first, dtype=float)
-    last = np.asarray(last, dtype=float)
-    with np.errstate(invalid="ignore"):
-        bad = ~np.isfinite(first) | ~np.isfinite(last) | ((last >= first) & (last > 0))
+    bad = _growing(first, last)
     if not np.any(bad):
         return
     idx = _first_index(bad) if np.ndim(bad) else ()
-    f, l_ = float(first[idx]), float(last[idx])
+    f, l_ = float(np.asarray(first, dtype=float)[idx]), float(np.asarray(last, dtype=float)[idx])
     nu_v = float(np.broadcast_to(np.asarray(nu, dtype=float), np.shape(bad))[idx])
     t1_v = float(np.broadcast_to(np.asarray(theta1, dtype=float), np.shape(bad))[idx])
     where = f" (element {idx[0] if len(idx) == 1 else idx})" if idx else ""
