@@ -8,6 +8,8 @@ Prints, from one run in one process:
   (generic expressions, ``cancel`` of every coefficient at every order; 000
   eqs. 24-26) at order 20, next to ours at
   order 20, and their ratio (target: >= 50);
+* the time to write the order-40 series as the product does (JSON through
+  SymPy, and LaTeX);
 * the time to extend the series to order 100 (must complete), unless
   ``--quick`` is given.
 
@@ -108,6 +110,14 @@ def main(argv=None):
     print(f"order 40: {t40:.3f} s, peak traced memory {peak / 2**20:.1f} MB "
           f"(alpha_40: numerator degree {deg[0]}, denominator degree {deg[1]}; "
           f"{sum(len(r) for r in s40.c_raw.values())} coefficients of c_n, all in lowest terms)")
+
+    # what the product adds at order 40: SymPy expressions, their strings, the LaTeX
+    from pendulab.io import canonical_json
+    from pendulab.products import series as product
+    t_json, text = timed(lambda: canonical_json(product.record("nu", 40)))
+    t_tex, tex = timed(lambda: product.latex_text(["nu"], 40))
+    print(f"order 40 as the product writes it: JSON {t_json:.1f} s ({len(text) / 1e6:.1f} MB), "
+          f"LaTeX {t_tex:.1f} s ({len(tex) / 1e6:.1f} MB), both from the series already computed")
 
     # ours vs naive at the naive order
     N = args.naive_order

@@ -172,16 +172,37 @@ def test_extension_reuses_computed_orders():
     assert fresh.alpha == eng.alpha and fresh.c == eng.c
 
 
+def _stored_parts(v):
+    """Numerator and denominator of a stored coefficient as SymPy polynomials, as stored (no cancel)."""
+    num = sp.Poly(list(reversed(v.num)), nu)
+    den = sp.Poly(v.den, nu)
+    for j, e in v.exps:
+        den = den * sp.Poly(nu + j, nu) ** e
+    return num, den
+
+
 def test_no_floats_and_lowest_terms():
     s = se.mathieu_series(10)
     for n, a in s.alpha.items():
         assert not a.atoms(sp.Float)
-        num, den = sp.fraction(sp.cancel(a))
-        assert sp.gcd(num, den).is_number
-    for n, row in s.c_raw.items():
-        for k, v in row:
-            for j, e in v.exps:      # no factor of the denominator divides the numerator
-                assert sum(c * (-j) ** i for i, c in enumerate(v.num)) != 0
+    rows = [[(None, a) for a in s.alpha_raw.values() if not a.is_zero()]] + list(s.c_raw.values())
+    checked = 0
+    for row in rows:
+        for _, v in row:
+            num, den = _stored_parts(v)
+            # SymPy's polynomial gcd of the parts as stored is a unit: nothing left to cancel,
+            # neither a factor (nu + j) nor an integer
+            assert sp.gcd(num, den).is_ground and math.gcd(*v.num, v.den) == 1
+            x = Fraction(7, 3)                      # the parts are those of the stored value
+            assert Fraction(int(num.eval(x).p), int(num.eval(x).q)) / Fraction(
+                int(den.eval(x).p), int(den.eval(x).q)) == v.evaluate(x)
+            checked += 1
+    assert checked == 65          # alpha_2..alpha_10 (5); c_1..c_10 have 2, 2, 4, 4, .., 10, 10 (60)
+    # the check can fail: an unreduced value is caught
+    doubled = se.mathieu_series(4).alpha_raw[2]
+    bad_num, bad_den = _stored_parts(doubled)
+    bad_num, bad_den = bad_num * sp.Poly(nu + 3, nu), bad_den * sp.Poly(nu + 3, nu)
+    assert not sp.gcd(bad_num, bad_den).is_ground
 
 
 # -- integer order: DLMF 28.6 -----------------------------------------------------------

@@ -99,6 +99,17 @@ def test_latex_lines_fit_and_are_deterministic():
         assert text.count(f"\\alpha_{{{n}}} &=") == 1
 
 
+def test_latex_is_byte_identical_across_processes():
+    """Different hash seeds (set iteration order) must not change a byte of the LaTeX."""
+    a = _cli("--order", "8", "--kind", "nu", "--latex", seed="3")
+    b = _cli("--order", "8", "--kind", "nu", "--latex", seed="4")
+    c = _cli("--order", "8", "--kind", "b1", "--latex", seed="5")
+    d = _cli("--order", "8", "--kind", "b1", "--latex", seed="6")
+    assert a.returncode == b.returncode == c.returncode == d.returncode == 0
+    assert a.stdout == b.stdout and c.stdout == d.stdout
+    assert "\\alpha_{8}" in a.stdout and "\\begin{align" in c.stdout
+
+
 def test_latex_of_a_short_coefficient():
     text = product.latex_text(["nu"], 2)
     assert "\\alpha_{2} &= \\frac{1}{2 (\\nu - 1) (\\nu + 1)}" in text     # 000 eq. 27

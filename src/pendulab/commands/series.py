@@ -12,8 +12,11 @@ def add_parser(sub):
                     "'b2', ...: the characteristic values a_m(q), b_m(q) as power series in q "
                     "(DLMF 28.6, q = -theta1) with their radius of convergence.",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    from pendulab.products.series import MAX_PRODUCT_ORDER
     p.add_argument("--order", type=int, required=True,
-                   help="highest power of theta1 (or of q for the integer kinds)")
+                   help=f"highest power of theta1 (or of q for the integer kinds), 1 to {MAX_PRODUCT_ORDER} "
+                        "(printing order 40 takes about half a minute; the Python API, "
+                        "pendulab.analyses.series, goes to 400)")
     p.add_argument("--kind", default="nu", help="nu, or a<m> / b<m> such as a0, b1")
     fmt = p.add_mutually_exclusive_group()
     fmt.add_argument("--json", action="store_true", help="print JSON (sympy-parsable strings)")

@@ -19,7 +19,7 @@ by ``pendulab series`` on the command line.
 from pendulab.latex import LINE_WIDTH, brace_group  # LINE_WIDTH: widest line of visible math
 
 OPTIONS = {
-    "order": (int, 8, "highest power of theta1 (and of q for the integer kinds)"),
+    "order": (int, 8, "highest power of theta1 (and of q for the integer kinds), 1 to 60"),
     "kinds": (list, ["nu", "a0", "b1"],
               "'nu' for 000 eqs. 20-22, and integer kinds 'a0', 'a1', 'b1', 'b2', ... (DLMF 28.6)"),
 }
