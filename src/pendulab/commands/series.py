@@ -15,8 +15,8 @@ def add_parser(sub):
     from pendulab.products.series import MAX_PRODUCT_ORDER
     p.add_argument("--order", type=int, required=True,
                    help=f"highest power of theta1 (or of q for the integer kinds), 1 to {MAX_PRODUCT_ORDER} "
-                        "(printing order 40 takes about half a minute; the Python API, "
-                        "pendulab.analyses.series, goes to 400)")
+                        "(order 40 takes about 2 s; the Python API, pendulab.analyses.series, "
+                        "goes to 400)")
     p.add_argument("--kind", default="nu", help="nu, or a<m> / b<m> such as a0, b1")
     fmt = p.add_mutually_exclusive_group()
     fmt.add_argument("--json", action="store_true", help="print JSON (sympy-parsable strings)")
