@@ -577,6 +577,10 @@ def test_accepted_values_are_within_their_estimate_on_random_points(order):
     (lambda: se.theta0_of_nu("x", 0.1, 4), "real numbers"),
     (lambda: se.stability_interval_series(4, -0.1, 1), "omega0/omega"),
     (lambda: se.stability_interval_series(1, 0.1, 1), "order"),
+    # a rigid body has I = m l^2 + I0 >= m l^2 (000 sec. 2.1)
+    (lambda: se.stability_interval_series(4, 0.1, 0.5), "must be >= 1"),
+    (lambda: se.stability_interval_integer_series(4, 0.1, 0.99), "must be >= 1"),
+    (lambda: se.stability_interval_integer_series(4, 0.1, 1, on_domain="skip"), "on_domain"),
 ])
 def test_bad_input_is_a_one_line_value_error(call, fragment):
     with pytest.raises(PendulabError) as info:

@@ -107,6 +107,25 @@ def test_series_lower_limit_approaches_exact():
     assert errors[3] < 1e-9
 
 
+@pytest.mark.parametrize("rho", [0.0, 0.1, 0.3])
+def test_integer_series_limits_approach_exact_on_both_sides(rho):
+    """The a_0/b_1 series reach both exact limits (the non-integer one cannot reach the upper)."""
+    ref = st.reference_limits(rho, ROD)          # roots of SciPy's mathieu_a(0, q), mathieu_b(1, q)
+    lo, up = st.limits(rho, ROD, "integer-series:40")
+    assert lo == pytest.approx(ref[0], abs=1e-9) and up == pytest.approx(ref[1], rel=1e-9)
+    coarse = st.limits(rho, ROD, "integer-series:4")
+    assert abs(coarse[1] - ref[1]) > abs(up - ref[1])
+
+
+def test_integer_series_limit_beyond_the_radius_is_none():
+    # rho = 0.9: the lower limit has Q = 2 (a/l)/r near 2.5 > 1.4687686138 (a_0's radius, DLMF
+    # Table 28.6.1), so that limit is omitted; the upper limit's Q stays inside b_1's radius 3.77
+    ref = st.limits(0.9, 1, "exact")
+    assert 2 * ref[0] > 1.4687686138 and 2 * ref[1] < 3.769957494
+    lo, up = st.limits(0.9, 1, "integer-series:30")
+    assert lo is None and up == pytest.approx(ref[1], rel=1e-4)    # Q = 3.31: slow, near the radius
+
+
 def test_missing_module_is_a_clear_error(monkeypatch):
     monkeypatch.setitem(sys.modules, "pendulab.analyses.series", None)
     with pytest.raises(PendulabError, match="needs pendulab.analyses.series"):
@@ -151,6 +170,8 @@ def test_comparison_reports_every_problem_at_once():
     # series:1 used to pass parse_method and fail later with another range
     ((0.1, 1, "series:1"), "between 2 and 40"),
     ((0.1, 1, "series:41"), "between 2 and 40"),
+    ((0.1, 1, "integer-series:0"), "between 1 and 40"),
+    ((0.1, 1, "integer-series:"), "series order must be an integer"),
     ((0.1, 1, 12), "method must be a string"),
 ])
 def test_bad_input(args, fragment):

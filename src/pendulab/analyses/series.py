@@ -715,8 +715,9 @@ def _check_body(ratio, inertia_ratio):
         if not math.isfinite(x) or x < 0:
             problems.append(f"{name} must be finite and >= 0, got {v!r}")
         values.append(x)
-    if not problems and values[1] <= 0:
-        problems.append(f"I/(m l^2) must be > 0, got {inertia_ratio!r}")
+    if not problems and values[1] < 1:
+        # I = m l^2 + I0 with I0 >= 0 about the centre of mass (000 sec. 2.1): 1 for a point mass
+        problems.append(f"I/(m l^2) must be >= 1 (I = m l^2 + I0, I0 >= 0), got {inertia_ratio!r}")
     if problems:
         raise InputError("; ".join(problems))
     return values
@@ -862,7 +863,7 @@ def stability_interval_series(order, ratio, inertia_ratio):
     return lower, upper
 
 
-def stability_interval_integer_series(order, ratio, inertia_ratio):
+def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="warn"):
     """(lower, upper) limits of a/l from the series of a_0(q) and b_1(q) at ``order`` (DLMF 28.6).
 
     The inverted pendulum (theta0 = -4 ratio^2 < 0) is stable for
@@ -871,13 +872,17 @@ def stability_interval_integer_series(order, ratio, inertia_ratio):
     28.2.26 a_{2n+1}(-q) = b_{2n+1}(q)).  The lower limit is the smallest Q with
     a_0(Q) = theta0, the upper the smallest Q with b_1(Q) = theta0, each with
     the truncated series.  A limit beyond the series' radius of convergence
-    (DLMF Table 28.6.1) is returned with an AccuracyWarning.
+    (DLMF Table 28.6.1) is returned with an AccuracyWarning
+    (``on_domain="warn"``), raises SeriesDomainError (``"raise"``) or is
+    replaced by None (``"omit"``, used by the stability comparison table).
 
     >>> lo, up = stability_interval_integer_series(2, 0.1, 1)   # a_0 ~ -Q^2/2: lower = sqrt(2)*0.1
     >>> round(lo, 12) == round(2**0.5 * 0.1, 12)
     True
     """
     _check_order(order)
+    if on_domain not in ("raise", "warn", "omit"):
+        raise InputError(f"on_domain must be 'raise', 'warn' or 'omit', got {on_domain!r}")
     rho, iota = _check_body(ratio, inertia_ratio)
     target = -4.0 * rho * rho
     limits = []
@@ -896,8 +901,11 @@ def stability_interval_integer_series(order, ratio, inertia_ratio):
         else:
             root = _first_root(f, 0.0, 3.0 * s.radius + 8 * rho * rho, 6000)
         if root is not None and root >= s.radius:
-            warnings.warn(f"{kind}: the limit Q = {root:g} lies beyond the radius of convergence "
-                          f"{s.radius} (DLMF Table 28.6.1); the truncated series is unreliable there",
-                          AccuracyWarning, stacklevel=2)
+            if on_domain == "omit":
+                root = None
+            else:
+                _domain(f"{kind}: the limit Q = {root:g} lies beyond the radius of convergence "
+                        f"{s.radius} (DLMF Table 28.6.1); the truncated series is unreliable there",
+                        on_domain)
         limits.append(None if root is None else root * iota / 2)
     return limits[0], limits[1]

@@ -14,7 +14,11 @@ lower < a/l < upper.  Methods:
   (:func:`pendulab.analyses.averaging.lower_bound_physical`); no upper limit;
 * ``"eq28"`` - the source's own series at second order (000 eq. 28),
   :func:`pendulab.analyses.series.stability_interval_series` with order 2;
-* ``"series:N"`` - that series at order N.
+* ``"series:N"`` - that series at order N;
+* ``"integer-series:N"`` - the series of the boundary curves a_0(q) and b_1(q)
+  (DLMF 28.6) at order N,
+  :func:`pendulab.analyses.series.stability_interval_integer_series`; a limit
+  beyond the series' radius of convergence (DLMF Table 28.6.1) is None.
 
 The symbolic formulas are turned into numbers here, never re-typed.
 
@@ -97,13 +101,15 @@ def parse_method(method):
         raise InputError(f"method must be a string, got {method!r}")
     if method in METHODS:
         return method, None
-    if method.startswith("series:"):
-        text = method[len("series:"):]
-        if not text.isdigit() or not MIN_SERIES_ORDER <= int(text) <= MAX_SERIES_ORDER:
-            raise InputError(f"method {method!r}: the series order must be an integer "
-                             f"between {MIN_SERIES_ORDER} and {MAX_SERIES_ORDER}")
-        return "series", int(text)
-    raise InputError(f"unknown method {method!r} (known: {', '.join(METHODS)}, series:N)")
+    for kind, lowest in (("series", MIN_SERIES_ORDER), ("integer-series", 1)):
+        if method.startswith(kind + ":"):
+            text = method[len(kind) + 1:]
+            if not text.isdigit() or not lowest <= int(text) <= MAX_SERIES_ORDER:
+                raise InputError(f"method {method!r}: the series order must be an integer "
+                                 f"between {lowest} and {MAX_SERIES_ORDER}")
+            return kind, int(text)
+    raise InputError(f"unknown method {method!r} (known: {', '.join(METHODS)}, series:N, "
+                     f"integer-series:N)")
 
 
 @functools.lru_cache(maxsize=None)
@@ -160,12 +166,21 @@ def _series(order, ratio, inertia_ratio):
     return (None if lower is None else float(lower)), (None if upper is None else float(upper))
 
 
+def _integer_series(order, ratio, inertia_ratio):
+    try:
+        from pendulab.analyses.series import stability_interval_integer_series
+    except ImportError:
+        raise _missing(f"integer-series:{order}",
+                       "pendulab.analyses.series.stability_interval_integer_series") from None
+    return stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="omit")
+
+
 def limits(ratio, inertia_ratio=1, method="exact"):
     """(lower, upper) limits of a/l for stability of the inverted position.
 
     ``ratio`` = omega0/omega >= 0, ``inertia_ratio`` = I/(m l^2) >= 1 (1 for a
-    point mass, 4/3 for a rod), ``method`` one of :data:`METHODS` or
-    "series:N".  ``upper`` is None for eq19 and eq19-corrected (the averaging
+    point mass, 4/3 for a rod), ``method`` one of :data:`METHODS`,
+    "series:N" or "integer-series:N".  ``upper`` is None for eq19 and eq19-corrected (the averaging
     gives no upper limit).  Raises :class:`~pendulab.errors.InputError` for bad
     input and :class:`~pendulab.errors.PendulabError` when the method's module
     is not installed.
@@ -189,6 +204,8 @@ def limits(ratio, inertia_ratio=1, method="exact"):
         return _formula(kind)(rho, r), None
     if kind == "eq28":
         return _series(2, rho, r)
+    if kind == "integer-series":
+        return _integer_series(order, rho, r)
     return _series(order, rho, r)
 
 

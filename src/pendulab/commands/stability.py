@@ -19,7 +19,8 @@ def add_parser(sub):
     p.add_argument("--ratio", metavar="W0_OVER_W", required=True,
                    help="omega0/omega, a number >= 0")
     p.add_argument("--method", default="exact", metavar="METHOD",
-                   help="exact, eq12, eq19, eq19-corrected, eq28 or series:N (2 <= N <= 40)")
+                   help="exact, eq12, eq19, eq19-corrected, eq28, series:N (2 <= N <= 40) or "
+                        "integer-series:N (the a_0, b_1 series, 1 <= N <= 40)")
     p.add_argument("--json", action="store_true", help="print a JSON record")
     p.set_defaults(func=run)
     return p

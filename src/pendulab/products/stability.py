@@ -23,7 +23,8 @@ OPTIONS = {
     "points": (int, 21, "number of omega0/omega values, evenly spaced in [0, max_ratio]"),
     "max_ratio": (str, "1", "largest omega0/omega of the grid (a decimal or fraction)"),
     "methods": (list, ["exact", "eq12", "eq19", "eq19-corrected", "eq28", "series:4"],
-                "methods to compare (exact, eq12, eq19, eq19-corrected, eq28, series:N)"),
+                "methods to compare (exact, eq12, eq19, eq19-corrected, eq28, series:N, "
+                "integer-series:N)"),
     "figure": (bool, True, "also draw stability.svg (needs matplotlib)"),
 }
 SYSTEMS = ("kapitza",)
@@ -85,13 +86,16 @@ def document(table, inertia_ratio_expr, scene_name):
         "variables": {"w0_over_w": "omega0/omega", "inertia_ratio": "I/(m*l**2)",
                       "a_over_l": "a/l"},
         "note": "inverted position stable for lower < a/l < upper; upper null: the method "
-                "gives no upper limit (000 eqs. 12, 19, 28)",
+                "gives no upper limit (000 eqs. 12, 19, 28); integer-series null: the limit lies "
+                "beyond the radius of convergence (DLMF Table 28.6.1)",
     }
 
 
 def _label(method):
     if method.startswith("series:"):
         return f"series, order {method.split(':', 1)[1]}"
+    if method.startswith("integer-series:"):
+        return f"$a_0$, $b_1$ series, order {method.split(':', 1)[1]}"
     return _LABELS[method]
 
 
