@@ -180,8 +180,8 @@ def limits(ratio, inertia_ratio=1, method="exact"):
 
     ``ratio`` = omega0/omega >= 0, ``inertia_ratio`` = I/(m l^2) >= 1 (1 for a
     point mass, 4/3 for a rod), ``method`` one of :data:`METHODS`,
-    "series:N" or "integer-series:N".  ``upper`` is None for eq19 and eq19-corrected (the averaging
-    gives no upper limit).  Raises :class:`~pendulab.errors.InputError` for bad
+    "series:N" or "integer-series:N".  ``upper`` is None for eq19 and
+    eq19-corrected (the averaging gives no upper limit).  Raises :class:`~pendulab.errors.InputError` for bad
     input and :class:`~pendulab.errors.PendulabError` when the method's module
     is not installed.
     """
