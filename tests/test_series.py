@@ -151,8 +151,8 @@ def test_residual_with_sympy_calculus_order_4():
             assert abs(poly.coeff_monomial(theta1**5).evalf(30)) > 1e-6
 
 
-def test_extension_reuses_computed_orders():
-    eng = se._Engine()
+def _count_orders(eng):
+    """Record, in the returned list, each order ``eng`` computes from now on."""
     calls = []
     original = eng._next
 
@@ -161,6 +161,12 @@ def test_extension_reuses_computed_orders():
         original()
 
     eng._next = counting
+    return calls
+
+
+def test_extension_reuses_computed_orders():
+    eng = se._Engine()
+    calls = _count_orders(eng)
     eng.extend(6)
     kept = {k: v for k, v in eng.c[5].items()}
     eng.extend(10)
@@ -285,14 +291,7 @@ def test_radii_from_dlmf_table_28_6_1():
 
 def test_integer_series_extend_instead_of_recomputing():
     eng = se._CharEngine("b", 1)
-    calls = []
-    original = eng._next
-
-    def counting():
-        calls.append(eng.order + 1)
-        original()
-
-    eng._next = counting
+    calls = _count_orders(eng)
     eng.extend(10)
     kept = list(eng.lam)
     eng.extend(25)

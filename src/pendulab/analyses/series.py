@@ -111,9 +111,10 @@ def _check_order(order, minimum=1):
     return order
 
 
-def _check_on_domain(on_domain):
-    if on_domain not in ("raise", "warn"):
-        raise InputError(f"on_domain must be 'raise' or 'warn', got {on_domain!r}")
+def _check_on_domain(on_domain, allowed=("raise", "warn")):
+    if on_domain not in allowed:
+        names = " or ".join(", ".join(repr(a) for a in allowed).rsplit(", ", 1))
+        raise InputError(f"on_domain must be {names}, got {on_domain!r}")
     return on_domain
 
 
@@ -121,13 +122,25 @@ def _check_on_domain(on_domain):
 # Exact series for non-integer nu
 # =====================================================================================
 
-class _Engine:
-    """The computed orders of 000 eqs. 20-24; grows on demand, never recomputes."""
+class _Growing:
+    """Orders computed so far, appended to by ``_next`` on demand and never recomputed."""
 
     def __init__(self):
+        self.lock = threading.Lock()
+
+    def extend(self, order):
+        with self.lock:
+            while self.order < order:
+                self._next()
+
+
+class _Engine(_Growing):
+    """The computed orders of 000 eqs. 20-24."""
+
+    def __init__(self):
+        super().__init__()
         self.alpha = [ZERO, ZERO]          # alpha[n]; alpha_0 is unused, alpha_1 = 0
         self.c = [{0: ONE}]                # c[n][k] for k > 0 (and c[0][0] = 1)
-        self.lock = threading.Lock()
 
     @property
     def order(self):
@@ -139,11 +152,6 @@ class _Engine:
             return self.c[n].get(k, ZERO)
         value = self.c[n].get(-k)
         return ZERO if value is None else reflect(value)
-
-    def extend(self, order):
-        with self.lock:
-            while self.order < order:
-                self._next()
 
     def _next(self):
         n = self.order + 1
@@ -274,7 +282,7 @@ def _action(letter, s):
     return out
 
 
-class _CharEngine:
+class _CharEngine(_Growing):
     """Rayleigh-Schroedinger orders of a_m(q) or b_m(q); grows on demand, never recomputes.
 
     On span{phi_s} (the frequencies s of m's parity class, DLMF 28.4) the
@@ -290,19 +298,14 @@ class _CharEngine:
     """
 
     def __init__(self, letter, m):
+        super().__init__()
         self.letter, self.m = letter, m
         self.lam = [Fraction(m * m)]
         self.x = [{m: Fraction(1)}]
-        self.lock = threading.Lock()
 
     @property
     def order(self):
         return len(self.lam) - 1
-
-    def extend(self, order):
-        with self.lock:
-            while self.order < order:
-                self._next()
 
     def _next(self):
         letter, m, lam, x = self.letter, self.m, self.lam, self.x
@@ -366,7 +369,7 @@ class CharacteristicSeries:
         """
         _check_on_domain(on_domain)
         N, K = self.order, _lookahead(self.order)
-        coeffs = characteristic_series(self.kind, K).coefficients
+        coeffs = _char_coefficients(self.kind[0], int(self.kind[1:]), K)
         table = f"{self.kind}: |q| = {{}} is beyond the radius of convergence {self.radius} (DLMF Table 28.6.1)"
         if dps is None:
             import numpy as np
@@ -411,8 +414,7 @@ class CharacteristicSeries:
         import numpy as np
         bad = _growing(first, last)
         if np.any(bad):
-            idx = _first_index(bad) if np.ndim(bad) else ()
-            where = f" (element {idx[0] if len(idx) == 1 else idx})" if idx else ""
+            idx, where = _first_bad(bad)
             _domain(f"{self.kind}: q = {float(np.asarray(q)[idx]):.6g}{where} is beyond the radius of "
                     f"convergence (not in DLMF Table 28.6.1 for this kind): the terms of the series grow "
                     f"from orders {self.order + 1}-{self.order + 2} (size {float(np.asarray(first)[idx]):.2g}) "
@@ -436,10 +438,16 @@ def characteristic_series(kind, order):
     """
     letter, m = _parse_kind(kind)
     _check_order(order)
+    lam = _char_coefficients(letter, m, order)
+    return CharacteristicSeries(f"{letter}{m}", order, {p: lam[p] for p in range(order + 1)})
+
+
+def _char_coefficients(letter, m, order):
+    """The cached engine's list of exact coefficients of a_m or b_m, extended to at least ``order``."""
     with _CHAR_ENGINES_LOCK:
         engine = _CHAR_ENGINES.setdefault((letter, m), _CharEngine(letter, m))
     engine.extend(order)
-    return CharacteristicSeries(f"{letter}{m}", order, {p: engine.lam[p] for p in range(order + 1)})
+    return engine.lam
 
 
 # =====================================================================================
@@ -545,9 +553,13 @@ def _lookahead(order):
     return order + min(40, max(8, order // 2, 16 - order))
 
 
-def _first_index(mask):
+def _first_bad(bad):
+    """(index, text) of the first True entry of ``bad``: () and "" for a scalar."""
     import numpy as np
-    return tuple(int(i[0]) for i in np.nonzero(np.asarray(mask)))
+    if not np.ndim(bad):
+        return (), ""
+    idx = tuple(int(i[0]) for i in np.nonzero(np.asarray(bad)))
+    return idx, f" (element {idx[0] if len(idx) == 1 else idx})"
 
 
 def _growing(first, last):
@@ -573,11 +585,10 @@ def _divergence_check(first, last, order, K, what, nu, theta1, on_domain, depth=
     bad = _growing(first, last)
     if not np.any(bad):
         return
-    idx = _first_index(bad) if np.ndim(bad) else ()
+    idx, where = _first_bad(bad)
     f, l_ = float(np.asarray(first, dtype=float)[idx]), float(np.asarray(last, dtype=float)[idx])
     nu_v = float(np.broadcast_to(np.asarray(nu, dtype=float), np.shape(bad))[idx])
     t1_v = float(np.broadcast_to(np.asarray(theta1, dtype=float), np.shape(bad))[idx])
-    where = f" (element {idx[0] if len(idx) == 1 else idx})" if idx else ""
     _domain(f"{what}: theta1 = {t1_v:.6g} is beyond the radius of convergence at nu = {nu_v:.6g}"
             f"{where}: the terms of the series grow from orders {order + 1}-{order + 2} (size "
             f"{f:.2g}) to orders {K - 1}-{K} (size {l_:.2g}); lower theta1", on_domain, stacklevel=3 + depth)
@@ -881,8 +892,7 @@ def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="wa
     True
     """
     _check_order(order)
-    if on_domain not in ("raise", "warn", "omit"):
-        raise InputError(f"on_domain must be 'raise', 'warn' or 'omit', got {on_domain!r}")
+    _check_on_domain(on_domain, ("raise", "warn", "omit"))
     rho, iota = _check_body(ratio, inertia_ratio)
     target = -4.0 * rho * rho
     limits = []
