@@ -10,6 +10,15 @@ only when asked for.
 
 __version__ = "0.2.0"
 
+import os as _os
+
+# SymPy picks its ground types (the integers and rationals under its
+# polynomials) when it is first imported: "flint" by itself when python-flint
+# is installed (SymPy 1.14), else "gmpy".  Pin one choice so that generated/
+# is the same whichever is installed; a user's explicit SYMPY_GROUND_TYPES is
+# kept.  This only works when pendulab is imported before SymPy.
+_os.environ.setdefault("SYMPY_GROUND_TYPES", "gmpy")
+
 from pendulab.errors import (  # noqa: F401
     PendulabError,
     InputError,
