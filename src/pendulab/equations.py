@@ -14,6 +14,10 @@ from pendulab.systems import DrivenPivot, VariableLength
 from pendulab.errors import InputError
 
 
+#: omega0^2 = m g l / I, the natural frequency the source introduces in 000 eq. 3.
+OMEGA0_SQUARED = S.m * S.g * S.l / S.I
+
+
 def euler_lagrange(lagrangian, coordinate, time=S.t):
     """d/dt (dL/dq') - dL/dq for one coordinate q(t) (the Euler-Lagrange expression)."""
     qdot = coordinate.diff(time)
@@ -78,7 +82,8 @@ def _derive_driven_pivot(system):
     source_form = sp.expand(el / (S.m * S.l))
     # 000 eq. 3: normalise and trade g for omega0^2 = m g l / I.
     eom = normalise(el, th)
-    eom = sp.expand(eom.subs(S.g, S.omega0**2 * S.I / (S.m * S.l)))
+    g_of_omega0, = sp.solve(sp.Eq(S.omega0**2, OMEGA0_SQUARED), S.g)
+    eom = sp.expand(eom.subs(S.g, g_of_omega0))
     eom = sp.collect(eom, sp.sin(th))
     about = system.inverted_position
     linear = linearise(eom, th, about)
