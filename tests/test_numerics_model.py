@@ -110,3 +110,12 @@ def test_length_system_is_the_equation_of_motion(length, rng):
         want = -float((rest / lead).subs(S.t, t))
         got = f(t, [th, thd], [vals[s] for s in fos.params])
         assert got[1] == pytest.approx(want, rel=1e-12)
+
+
+def test_numbers_reach_the_scene_own_symbols():
+    # exprs.parse makes a scene's own names real symbols; a number given by
+    # name must still replace them (found when eps stayed symbolic).
+    from pendulab.exprs import parse
+    eqs = derive(VariableLength(length=parse("L0*(1 + eps*sin(Omega*t))")))
+    fos = length_system(eqs, values={"eps": 0.05, "Omega": 6, "L0": 1, "g": 9.81})
+    assert fos.params == ()

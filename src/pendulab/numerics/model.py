@@ -105,11 +105,18 @@ def _state_form(expr, coordinate, time):
     return expr.subs({coordinate.diff(time): DTHETA}).subs({coordinate: THETA})
 
 
-def _numbers(values, where="values"):
-    """{Symbol: exact SymPy number} from {name or Symbol: number or expression}."""
+def _numbers(values, exprs=(), where="values"):
+    """{Symbol: exact SymPy number} from {name or Symbol: number or expression}.
+
+    A name is matched to the symbol of that name in ``exprs`` (the scene's
+    own symbols are real, pendulab's physical ones positive), then to
+    pendulab's symbols, then taken as a real symbol.
+    """
+    own = {s.name: s for e in exprs for s in sp.sympify(e).free_symbols}
     out = {}
     for key, value in (values or {}).items():
-        sym = key if isinstance(key, sp.Symbol) else S.NAMESPACE.get(key, sp.Symbol(key, positive=True))
+        name = key.name if isinstance(key, sp.Symbol) else str(key)
+        sym = own.get(name) or S.NAMESPACE.get(name) or sp.Symbol(name, real=True)
         num = sp.nsimplify(value) if isinstance(value, float) else sp.sympify(value)
         if not (num.is_number and num.is_real and num.is_finite):
             raise InputError(f"{where}.{sym}: must be a finite real number, got {value!r}")
@@ -172,7 +179,7 @@ def pivot_system(equations, form, values=None, groups=True):
         out = [e.subs(sub) for e in out]
         note += "; a = a_over_l*l, omega0 = w0_over_w*omega" + (
             ", I = inertia_ratio*m*l**2" if inertia.has(S.I) else "")
-    nums = _numbers(values)
+    nums = _numbers(values, out)
     if nums:
         out = [e.subs(_physical(nums, inertia)).subs(nums) for e in out]
     out = [sp.simplify(e) for e in out]
@@ -206,7 +213,7 @@ def length_system(equations, values=None):
             raise InputError("the variable-length equation has no second derivative")
         rest = sp.expand(expr - lead * acc)
         out.append(sp.simplify(-_state_form(rest, th, S.t) / lead))
-    nums = _numbers(values)
+    nums = _numbers(values, out)
     if nums:
         out = [sp.simplify(e.subs(nums)) for e in out]
     params = tuple(sorted(set().union(*(e.free_symbols for e in out)) - {S.t, *STATES},
@@ -258,5 +265,5 @@ def mathieu_parameters(equations, form, values=None, groups=True):
     if groups:
         sub = _dimensionless_groups(inertia.has(S.I))
         pair = [v.subs(sub) for v in pair]
-    nums = _numbers(values)
+    nums = _numbers(values, pair)
     return tuple(sp.simplify(v.subs(_physical(nums, inertia)).subs(nums)) for v in pair)
