@@ -172,7 +172,7 @@ def _rhs(fos, linear):
 # ---------------------------------------------------------------------------
 
 #: the event of :func:`integrate` fires when L(t) falls below this fraction of L(0)
-LENGTH_FLOOR = 1e-9
+LENGTH_FLOOR = 1e-6
 
 
 def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False,
