@@ -22,6 +22,7 @@ Public API (all arguments are SymPy objects of the stages plus plain numbers):
 * :func:`amplitude_exponent` - d log(amplitude) / d log L from E/omega = const.
 * :func:`turning_points`, :func:`fit_exponent` - the fitted exponent of the
   successive peak amplitudes against L.
+* :func:`quarter_periods` - the measured swings between theta = 0 and theta' = 0.
 * :func:`periodic_verdict` - the Floquet verdict of a periodic L(t) from the
   monodromy matrix of the linear equation.
 
@@ -64,8 +65,8 @@ class Trajectory:
     ``t``, ``theta``, ``dtheta`` are 1-d arrays of equal length (dtheta = d theta/dt);
     ``values`` maps parameter names to the floats used; ``linear`` says which
     right-hand side (002 eq. 4 or eq. 3) ran; ``turning`` holds the
-    (t, theta) of every dtheta = 0 event (two 1-d arrays); ``nfev`` counts
-    right-hand-side calls.
+    (t, theta) of every dtheta = 0 event (two 1-d arrays), ``crossings`` the
+    t of every theta = 0 event; ``nfev`` counts right-hand-side calls.
     """
 
     t: np.ndarray
@@ -74,6 +75,7 @@ class Trajectory:
     values: dict
     linear: bool
     turning: tuple = field(default=(np.empty(0), np.empty(0)))
+    crossings: np.ndarray = field(default_factory=lambda: np.empty(0))
     nfev: int = 0
 
 
@@ -229,12 +231,15 @@ def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False
     def turning(t, y):
         return y[1]
 
+    def crossing(t, y):
+        return y[0]
+
     if atol is None:
         atol = rtol * 1e-3 * max(abs(theta_0), abs(dtheta_0), 1e-300)
     if t_eval is None:
         t_eval = np.linspace(0.0, t_end, int(points))
     sol = solve_ivp(rhs, (0.0, t_end), [theta_0, dtheta_0], method="DOP853", rtol=rtol, atol=atol,
-                    t_eval=t_eval, events=(short, turning))
+                    t_eval=t_eval, events=(short, turning, crossing))
     if sol.t_events[0].size:
         te = float(sol.t_events[0][0])
         raise LengthReachesZeroError(
@@ -245,8 +250,9 @@ def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False
     tt = sol.t_events[1]
     th = sol.y_events[1][:, 0] if tt.size else np.empty(0)
     keep = tt > 0  # the start, where dtheta(0) = 0, is not a turning point found by the solver
+    tc = sol.t_events[2]
     return Trajectory(sol.t, sol.y[0], sol.y[1], dict(values), bool(linear),
-                      (tt[keep], th[keep]), int(sol.nfev))
+                      (tt[keep], th[keep]), np.asarray(tc[tc > 0]), int(sol.nfev))
 
 
 # ---------------------------------------------------------------------------
@@ -397,6 +403,50 @@ def turning_points(traj):
     """(t, |theta|) at the turning points (dtheta = 0) of a :class:`Trajectory`."""
     tt, th = traj.turning
     return np.asarray(tt), np.abs(np.asarray(th))
+
+
+def quarter_periods(traj):
+    """The swings of a :class:`Trajectory` between its events, in time order.
+
+    A list of (kind, t_from, t_to): kind "toward" runs from a turning point
+    (dtheta = 0) to the next theta = 0, "outward" from theta = 0 to the next
+    turning point (002's "quarto-periodo").  The start (a turning point, as
+    theta'(0) = 0) counts as the first event.
+    """
+    events = sorted([(0.0, "turn")] + [(float(t), "turn") for t in traj.turning[0]]
+                    + [(float(t), "zero") for t in traj.crossings])
+    out = []
+    for (t1, k1), (t2, k2) in zip(events, events[1:]):
+        if k1 == k2:
+            raise ConvergenceError(f"two {k1} events in a row at t = {t1:.12g}, {t2:.12g}: the "
+                                   "event detection missed one (integrate with more points)")
+        out.append(("toward" if k1 == "turn" else "outward", t1, t2))
+    return out
+
+
+def zero_quarter_periods(k, count, growing=True, *, dps=20):
+    """The quarter periods of the z0 = j_{2,k} motion from the zeros of J1 and J2.
+
+    With B = 0, theta = A z^-1 J1(z): theta' = 0 at the zeros of J2, theta = 0
+    at those of J1 (d/dz[z^-1 J1] = -z^-1 J2).  z runs up from j_{2,k}
+    (growing string: j_{2,k}, j_{1,k+1}, j_{2,k+1}, ...) or down (shortening:
+    j_{2,k}, j_{1,k}, j_{2,k-1}, ..., j_{1,1}).  A swing lasts |z_b^2 - z_a^2|
+    in the unit |v0|/(4 g) (002).  Returns up to ``count`` pairs
+    (kind, duration) with durations as mpmath numbers (mpmath.besseljzero).
+    """
+    import mpmath
+    seq = []
+    with mpmath.workdps(dps + 5):
+        if growing:
+            for i in range(count + 1):
+                seq.append(mpmath.besseljzero(2, k + i // 2) if i % 2 == 0
+                           else mpmath.besseljzero(1, k + 1 + i // 2))
+        else:
+            for i in range(min(count + 1, 2 * k)):
+                seq.append(mpmath.besseljzero(2, k - i // 2) if i % 2 == 0
+                           else mpmath.besseljzero(1, k - i // 2))
+        return [("toward" if i % 2 == 0 else "outward", abs(b**2 - a**2))
+                for i, (a, b) in enumerate(zip(seq, seq[1:]))][:count]
 
 
 def fit_exponent(traj, length, skip=0):

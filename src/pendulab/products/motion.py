@@ -136,7 +136,22 @@ def _closed_form_part(ctx, fos, length, values, options, keep):
         _, _, bf = vm.closed_form_constants(sol, length, vb, th0)
         bz = vm.integrate(fos, length, vb, t_end, th0, linear=True, points=n)
         only_j1 = vm.closed_form_theta(sol, length, vb, th0, bz.t, keep_B=False)
+        numeric = vm._subs_by_name(length, vb)
+        rate = float(numeric.diff(S.t))
+        unit = abs(rate) / (4 * values["g"])
+        measured = [(kind, (b - a) / unit) for kind, a, b in vm.quarter_periods(bz)][:8]
+        expected = vm.zero_quarter_periods(k, len(measured), growing=rate > 0)
+        if [m[0] for m in measured] != [e[0] for e in expected]:
+            raise InputError("the measured swings do not follow the zeros of J1 and J2")
         part["b_zero"] = {
+            "quarter_periods": {
+                "unit": "|v0|/(4*g)",
+                "kind": [m[0] for m in measured],
+                "measured": [_g(m[1], 9) for m in measured],
+                "from_zeros": [mpmath.nstr(e[1], 12) for e in expected],
+                "max_abs_difference": _g(max((abs(m[1] - float(e[1])) for m, e in zip(measured, expected)),
+                                             default=0.0), 2),
+            },
             "k": k, "j2k": mpmath.nstr(j, 20), "L0": _g(l0, 15),
             "B_over_A_at_the_zero": mpmath.nstr(abs(bb / ab), 3),
             "B_over_A_at_float_L0": _g(abs(bf / ab), 2),
