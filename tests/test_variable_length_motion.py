@@ -420,6 +420,13 @@ def test_bad_product_options(tmp_path, options, key, fragment):
     assert not (tmp_path / "out").exists()
 
 
+def test_values_for_symbols_the_length_lacks_are_refused(tmp_path):
+    with pytest.raises(SceneError) as info:
+        build(_scene(tmp_path, "L0 + v0*t", FAST + "values = {eps = 0.1}\n"), out_root=tmp_path / "out",
+              log=lambda *a: None)
+    assert "values.eps: L(t) = L0 + t*v0 and the equation have no symbol eps" in str(info.value)
+
+
 def test_missing_values_for_other_symbols(tmp_path):
     with pytest.raises(SceneError) as info:
         build(_scene(tmp_path, "L0*(1 + eps*sin(Omega*t))"), out_root=tmp_path / "out",

@@ -22,7 +22,9 @@ Public API (all arguments are SymPy objects of the stages plus plain numbers):
 * :func:`amplitude_exponent` - d log(amplitude) / d log L from E/omega = const.
 * :func:`turning_points`, :func:`fit_exponent` - the fitted exponent of the
   successive peak amplitudes against L.
-* :func:`quarter_periods` - the measured swings between theta = 0 and theta' = 0.
+* :func:`quarter_periods` - the measured swings between theta = 0 and theta' = 0,
+  :func:`zero_quarter_periods` - the same from the zeros of J1 and J2.
+* :func:`substitute`, :func:`length_function` - numbers into an expression / L(t).
 * :func:`periodic_verdict` - the Floquet verdict of a periodic L(t) from the
   monodromy matrix of the linear equation.
 
@@ -103,17 +105,21 @@ def _param_values(symbols, values, what):
     return tuple(_finite(s.name, values[s.name]) for s in symbols)
 
 
-def _subs_by_name(expr, values):
-    """``expr`` with every free symbol named in ``values`` replaced by its float."""
+def substitute(expr, values):
+    """``expr`` with every free symbol named in ``values`` {name: number} replaced by its float.
+
+    Symbols are matched by name, so a scene's ``eps`` (a real symbol from
+    :func:`pendulab.exprs.parse`) and a positive ``eps`` are both replaced.
+    """
     expr = sp.sympify(expr)
     sub = {s: sp.Float(_finite(s.name, values[s.name]), 17) for s in expr.free_symbols
            if s.name in values}
     return expr.subs(sub)
 
 
-def _length_function(length, values):
-    """L(t) as a float function, with the parameter values in."""
-    expr = _subs_by_name(length, values)
+def length_function(length, values):
+    """(L(t) as a float function of t, the numeric SymPy expression) with ``values`` substituted."""
+    expr = substitute(length, values)
     rest = expr.free_symbols - {S.t}
     if rest:
         raise InputError(f"L(t) = {length} needs numbers for {', '.join(sorted(s.name for s in rest))}")
@@ -128,7 +134,7 @@ def length_zero_time(length, values, horizon=None):
     first sign change refined by Brent's method (scipy.optimize.brentq), so a
     zero the scan steps over is left to the integrator's event.
     """
-    fn, expr = _length_function(length, values)
+    fn, expr = length_function(length, values)
     if expr.is_polynomial(S.t):
         poly = sp.Poly(expr, S.t)
         if poly.degree() < 1:
@@ -206,7 +212,7 @@ def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False
         raise InputError(f"rtol: must lie in (0, 1), got {rtol!r}")
     p = _param_values(fos.params, values, "the equation of motion")
     used = {s.name: v for s, v in zip(fos.params, p)}
-    lfun, lexpr = _length_function(length, values)
+    lfun, lexpr = length_function(length, values)
     l0 = lfun(0.0)
     if not l0 > 0:
         raise InputError(f"L(0) = {l0!r} with these values: the length must be positive at t = 0")
@@ -249,10 +255,12 @@ def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False
         raise ConvergenceError(f"DOP853 did not reach t_end = {t_end:.12g}: {sol.message}")
     tt = sol.t_events[1]
     th = sol.y_events[1][:, 0] if tt.size else np.empty(0)
-    keep = tt > 0  # the start, where dtheta(0) = 0, is not a turning point found by the solver
+    # the start (dtheta(0) = 0, or theta(0) = 0) is not an event of the motion
+    start = 1e-12 * t_end
+    keep = tt > start
     tc = sol.t_events[2]
     return Trajectory(sol.t, sol.y[0], sol.y[1], dict(values), bool(linear),
-                      (tt[keep], th[keep]), np.asarray(tc[tc > 0]), int(sol.nfev))
+                      (tt[keep], th[keep]), np.asarray(tc[tc > start]), int(sol.nfev))
 
 
 # ---------------------------------------------------------------------------
@@ -282,7 +290,7 @@ def closed_form_theta(solution, length, values, theta_0, times, *, engine="scipy
     precision; fast), ``engine="mpmath"`` point by point at ``dps`` digits.
     ``keep_B=False`` drops the Y1 term (the z0 = j_{2,k} case, where B = 0).
     """
-    expr = _subs_by_name(_closed_expr(solution, length, keep_B), values)
+    expr = substitute(_closed_expr(solution, length, keep_B), values)
     rest = expr.free_symbols - {S.t, S.theta_0}
     if rest:
         raise InputError(f"the closed form needs numbers for {', '.join(sorted(s.name for s in rest))}")
@@ -307,13 +315,13 @@ def closed_form_constants(solution, length, values, theta_0, *, dps=30, z0=None)
     evaluate A, B exactly at a zero of J2).
     """
     import mpmath
-    z0_expr = _subs_by_name(solution.z_of_L.subs(S.Lvar, length.subs(S.t, 0)), values)
+    z0_expr = substitute(solution.z_of_L.subs(S.Lvar, length.subs(S.t, 0)), values)
     th0 = sp.Float(_finite("theta_0", theta_0), 17)
     with mpmath.workdps(dps + 10):
         z0v = sp.lambdify((), z0_expr, "mpmath")() if z0 is None else mpmath.mpf(z0)
         out = [z0v]
         for key in (S.A, S.B):
-            c = _subs_by_name(solution.constants[key].subs(S.theta_0, th0), values)
+            c = substitute(solution.constants[key].subs(S.theta_0, th0), values)
             out.append(sp.lambdify(solution.z0_symbol, c, "mpmath")(z0v))
     return tuple(+x for x in out)
 
@@ -345,14 +353,14 @@ def b_zero_length(solution, length, values, k=None, *, dps=30):
     if S.L0 not in z0.free_symbols:
         raise InputError(f"z0 = {z0} does not depend on L0: cannot adjust L0")
     others = {n: v for n, v in values.items() if n != "L0"}
-    z0_of_L0 = _subs_by_name(z0, others)
+    z0_of_L0 = substitute(z0, others)
     jsym = sp.Symbol("j", positive=True)
     roots = sp.solve(sp.Eq(z0_of_L0, jsym), S.L0)
     if len(roots) != 1:
         raise InputError(f"cannot solve z0 = {z0} for L0 uniquely (solutions: {roots})")
     with mpmath.workdps(dps + 10):
         if k is None:
-            current = float(sp.lambdify((), _subs_by_name(z0, values), "mpmath")())
+            current = float(sp.lambdify((), substitute(z0, values), "mpmath")())
             # McMahon's leading term j_{2,k} ~ (k + 1/2 + 1/4) pi brackets the index; pick the nearest.
             guess = max(1, int(round(current / math.pi - 0.75)))
             cands = [c for c in (guess - 1, guess, guess + 1) if c >= 1]
@@ -459,7 +467,7 @@ def fit_exponent(traj, length, skip=0):
     tt, amp = tt[skip:], amp[skip:]
     if tt.size < 3:
         raise InputError(f"only {tt.size} turning points: integrate longer to fit an exponent")
-    lfun, _ = _length_function(length, traj.values)
+    lfun, _ = length_function(length, traj.values)
     x = np.log([lfun(t) for t in tt])
     y = np.log(amp)
     slope, intercept = np.polyfit(x, y, 1)
@@ -483,7 +491,7 @@ def _monodromy_floquet_verdict(fos, params, *, rtol=RTOL, margin=1e-8):
     |trace| < 2 - margin and det within margin of 1, else "boundary".
     """
     from scipy.integrate import solve_ivp
-    period_expr = _subs_by_name(fos.period, dict(zip((s.name for s in fos.params), params)))
+    period_expr = substitute(fos.period, dict(zip((s.name for s in fos.params), params)))
     period = float(period_expr)
     a = sp.lambdify((fos.time, fos.params), fos.linear_matrix().tolist(), "math")
 

@@ -97,6 +97,10 @@ def _numbers(fos, length, options):
     import sympy as sp
     given = {"g": options["g"], "L0": options["L0"], "v0": options["v0"], **options["values"]}
     names = sorted({s.name for s in fos.params} | {s.name for s in sp.sympify(length).free_symbols} - {"t"})
+    unused = sorted(set(options["values"]) - set(names))
+    if unused:
+        raise InputError(f"values.{unused[0]}: L(t) = {length} and the equation have no symbol "
+                         f"{unused[0]} (they use {', '.join(names)})")
     missing = [n for n in names if n not in given]
     if missing:
         raise InputError(f"L(t) = {length} needs numbers for {', '.join(missing)}: give them in the "
@@ -136,7 +140,7 @@ def _closed_form_part(ctx, fos, length, values, options, keep):
         _, _, bf = vm.closed_form_constants(sol, length, vb, th0)
         bz = vm.integrate(fos, length, vb, t_end, th0, linear=True, points=n)
         only_j1 = vm.closed_form_theta(sol, length, vb, th0, bz.t, keep_B=False)
-        numeric = vm._subs_by_name(length, vb)
+        numeric = vm.substitute(length, vb)
         rate = float(numeric.diff(S.t))
         unit = abs(rate) / (4 * values["g"])
         measured = [(kind, (b - a) / unit) for kind, a, b in vm.quarter_periods(bz)][:8]
@@ -169,7 +173,7 @@ def _amplitude_part(ctx, length, values, keep):
     lin_fit = vm.fit_exponent(keep["lin"], length)
     non_fit = vm.fit_exponent(keep["non"], length)
     keep.update(exponent=exponent, lin_fit=lin_fit)
-    numeric = vm._subs_by_name(length, values)
+    numeric = vm.substitute(length, values)
     rate = abs(float(numeric.diff(S.t)))
     l0 = float(numeric.subs(S.t, 0))
     return {
@@ -381,7 +385,7 @@ def figure_envelope(doc, keep, length):
     from pendulab.analyses import variable_length_motion as vm
     matplotlib, plt = _pyplot()
     tt, amp = vm.turning_points(keep["lin"])
-    lfun, _ = vm._length_function(length, keep["values"])
+    lfun, _ = vm.length_function(length, keep["values"])
     ls = np.array([lfun(t) for t in tt])
     slope = keep["lin_fit"][0]
     q = float(keep["exponent"])
