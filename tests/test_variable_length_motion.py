@@ -458,3 +458,17 @@ def test_motion_tex_compiles_without_overfull_boxes(tmp_path, length, options):
     log = (tmp_path / "notes.log").read_text(errors="replace")
     assert res.returncode == 0, log[-2000:]
     assert not [line for line in log.splitlines() if line.startswith("Overfull \\hbox")]
+
+
+@pytest.mark.slow
+def test_figures_are_byte_identical_across_interpreters(tmp_path):
+    """Two processes with different hash seeds write the same PNG and PDF bytes."""
+    import os
+    import sys
+    scene = _scene(tmp_path, "L0 + v0*t", "t_end = 5.0\npoints = 51\n")
+    for seed in ("1", "2"):
+        env = dict(os.environ, PYTHONHASHSEED=seed)
+        subprocess.run([sys.executable, "-m", "pendulab", "build", str(scene), "--out",
+                        str(tmp_path / seed)], check=True, env=env, capture_output=True, timeout=300)
+    for f in sorted((tmp_path / "1" / "vl").iterdir()):
+        assert f.read_bytes() == (tmp_path / "2" / "vl" / f.name).read_bytes(), f.name
