@@ -389,6 +389,24 @@ def test_product_periodic_length(tmp_path):
     assert "motion_envelope.png" not in {p.name for p in (out / "vl").iterdir()}
 
 
+def test_product_shortening_string(tmp_path):
+    out = tmp_path / "out"
+    build(_scene(tmp_path, "L0 - v0*t", "t_end = 90.0\npoints = 901\nfigures = false\n"),
+          out_root=out, log=lambda *a: None)
+    doc = json.loads((out / "vl" / "motion.json").read_text())
+    assert doc["length_zero_time"] == 100.0  # L0 - v0 t = 0 at t = L0/v0, beyond t_end = 90
+    cf = doc["closed_form"]
+    assert cf["linear_relative_agreement"] < 1e-10
+    bz = cf["b_zero"]
+    assert bz["L0"] >= 1.0 and bz["relative_agreement_with_A_J1_only"] < 1e-10
+    qp = bz["quarter_periods"]
+    assert qp["kind"][:2] == ["toward", "outward"] and qp["max_abs_difference"] < 1e-6
+    # shortening: each inward swing is shorter than the outward swing before it
+    m = qp["measured"]
+    assert all(m[i] < m[i - 1] for i in range(2, len(m), 2))
+    assert abs(doc["amplitude_law"]["fitted_exponent_linear"] + 0.75) < FIT_TOL
+
+
 def test_product_shortening_beyond_zero_is_one_line_exit_2(tmp_path, capsys):
     scene = _scene(tmp_path, "L0 - v0*t", "t_end = 150.0\n")
     out = tmp_path / "out"

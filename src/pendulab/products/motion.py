@@ -134,16 +134,19 @@ def _closed_form_part(ctx, fos, length, values, options, keep):
     keep.update(lin=lin, non=non, ref=ref)
     # z0 at a zero of J2: B = 0 (002, "Conseqüência").
     if S.L0 in length.free_symbols:
+        numeric = vm.substitute(length, values)
+        rate = float(numeric.diff(S.t))
         l0, k, j = vm.b_zero_length(sol, length, values)
+        if rate < 0 and l0 < values["L0"]:
+            # a shortening string: keep L0 >= the scene's, so that L still lasts beyond t_end
+            l0, k, j = vm.b_zero_length(sol, length, values, k=k + 1)
         vb = dict(values, L0=l0)
         _, ab, bb = vm.closed_form_constants(sol, length, vb, th0, z0=j)
         _, _, bf = vm.closed_form_constants(sol, length, vb, th0)
         bz = vm.integrate(fos, length, vb, t_end, th0, linear=True, points=n)
         only_j1 = vm.closed_form_theta(sol, length, vb, th0, bz.t, keep_B=False)
-        numeric = vm.substitute(length, vb)
-        rate = float(numeric.diff(S.t))
         unit = abs(rate) / (4 * values["g"])
-        measured = [(kind, (b - a) / unit) for kind, a, b in vm.quarter_periods(bz)][:8]
+        measured = [(kind, (t2 - t1) / unit) for kind, t1, t2 in vm.quarter_periods(bz)][:8]
         expected = vm.zero_quarter_periods(k, len(measured), growing=rate > 0)
         if [m[0] for m in measured] != [e[0] for e in expected]:
             raise InputError("the measured swings do not follow the zeros of J1 and J2")
