@@ -342,8 +342,8 @@ def relative_agreement(numeric, reference):
 def b_zero_length(solution, length, values, k=None, *, dps=30):
     """The initial length L0 that puts z0 at the k-th zero of J2, so that B = 0.
 
-    ``solution.constants[B]`` is proportional to J2(z0) (002: B = -(pi/2) theta_0 z0^2 J2(z0)
-    as derived); the closed form's z0 expression is solved for L0 with
+    ``solution.constants[B]`` is proportional to J2(z0) (derived: B = (pi/2) theta_0 z0^2 J2(z0);
+    002 prints the opposite sign); the closed form's z0 expression is solved for L0 with
     z0 = j_{2,k} (mpmath.besseljzero).  ``k=None`` takes the zero nearest to
     the z0 of ``values``.  Returns (L0, k, j_{2,k}) with L0 a float and
     j_{2,k} an mpmath number at ``dps`` digits.
