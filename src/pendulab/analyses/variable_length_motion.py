@@ -1,0 +1,534 @@
+"""The variable-length pendulum in motion: integration against the closed form (002).
+
+Everything numeric here is read from the derivation: the right-hand side is
+the numerics stage's first-order system (:func:`pendulab.numerics.model.length_system`,
+002 eq. 3 nonlinear and 002 eq. 4 linear, in the time t with the scene's
+L(t) written out), the reference is the pipeline's ``closed_form`` stage
+(:class:`pendulab.analyses.bessel.BesselSolution`: theta = A z^-1 J1(z) + B z^-1 Y1(z),
+z = (2/v0) sqrt(g L), A and B from theta(0) = theta_0, theta'(0) = 0), and the
+amplitude law's exponent is derived from the system's potential energy and the
+linear equation (:func:`amplitude_exponent`).  No equation of the source is
+typed here.
+
+Public API (all arguments are SymPy objects of the stages plus plain numbers):
+
+* :func:`integrate` - theta(t) by SciPy's DOP853 (rtol 1e-13 by default),
+  linear or nonlinear; refuses (:class:`LengthReachesZeroError`) a t_end at
+  or beyond the first zero of L(t).
+* :func:`length_zero_time` - that first zero, from the length expression.
+* :func:`closed_form_theta` - the closed form at given times (mpmath).
+* :func:`relative_agreement` - max |numeric - reference| / max |reference|.
+* :func:`b_zero_length` - the L0 that puts z0 at a zero of J2 (then B = 0).
+* :func:`amplitude_exponent` - d log(amplitude) / d log L from E/omega = const.
+* :func:`turning_points`, :func:`fit_exponent` - the fitted exponent of the
+  successive peak amplitudes against L.
+* :func:`quarter_periods` - the measured swings between theta = 0 and theta' = 0,
+  :func:`zero_quarter_periods` - the same from the zeros of J1 and J2.
+* :func:`substitute`, :func:`length_function` - numbers into an expression / L(t).
+* :func:`periodic_verdict` - the Floquet verdict of a periodic L(t) from the
+  monodromy matrix of the linear equation.
+
+The integrators call a scalar ``sympy.lambdify`` of ``fos.rhs`` /
+``fos.linear_rhs`` (:func:`_rhs`); when the code-generation stage lands
+(pendulab.numerics.integrate, generated NumPy/C kernels) :func:`_rhs` is the
+one place to switch to the generated right-hand side.
+"""
+
+import math
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+import sympy as sp
+
+from pendulab import symbols as S
+from pendulab.errors import ConvergenceError, InputError
+
+#: default tolerances of the adaptive integrator (DOP853)
+RTOL = 1e-13
+
+
+class LengthReachesZeroError(InputError):
+    """The string's length reaches 0 inside the requested time span.
+
+    ``time`` is the first t > 0 with L(t) = 0 (or where L fell below the
+    floor of the integrator's event), in the scene's time unit.
+    """
+
+    def __init__(self, message, time):
+        self.time = float(time)
+        super().__init__(message)
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """theta(t) on a time grid, from :func:`integrate`.
+
+    ``t``, ``theta``, ``dtheta`` are 1-d arrays of equal length (dtheta = d theta/dt);
+    ``values`` maps parameter names to the floats used; ``linear`` says which
+    right-hand side (002 eq. 4 or eq. 3) ran; ``turning`` holds the
+    (t, theta) of every dtheta = 0 event (two 1-d arrays), ``crossings`` the
+    t of every theta = 0 event; ``nfev`` counts right-hand-side calls.
+    """
+
+    t: np.ndarray
+    theta: np.ndarray
+    dtheta: np.ndarray
+    values: dict
+    linear: bool
+    turning: tuple = field(default=(np.empty(0), np.empty(0)))
+    crossings: np.ndarray = field(default_factory=lambda: np.empty(0))
+    nfev: int = 0
+
+
+# ---------------------------------------------------------------------------
+# numbers for the parameters
+# ---------------------------------------------------------------------------
+
+def _finite(name, value):
+    if isinstance(value, bool):
+        raise InputError(f"{name}: must be a number, got {value!r}")
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: must be a number, got {value!r}") from None
+    if not math.isfinite(out):
+        raise InputError(f"{name}: must be a finite number, got {value!r}")
+    return out
+
+
+def _param_values(symbols, values, what):
+    """Floats for ``symbols`` (in their order) from ``values`` {name: number}; all needed."""
+    missing = [s.name for s in symbols if s.name not in values]
+    if missing:
+        raise InputError(f"{what} needs numbers for {', '.join(missing)}")
+    return tuple(_finite(s.name, values[s.name]) for s in symbols)
+
+
+def substitute(expr, values):
+    """``expr`` with every free symbol named in ``values`` {name: number} replaced by its float.
+
+    Symbols are matched by name, so a scene's ``eps`` (a real symbol from
+    :func:`pendulab.exprs.parse`) and a positive ``eps`` are both replaced.
+    """
+    expr = sp.sympify(expr)
+    sub = {s: sp.Float(_finite(s.name, values[s.name]), 17) for s in expr.free_symbols
+           if s.name in values}
+    return expr.subs(sub)
+
+
+def length_function(length, values):
+    """(L(t) as a float function of t, the numeric SymPy expression) with ``values`` substituted."""
+    expr = substitute(length, values)
+    rest = expr.free_symbols - {S.t}
+    if rest:
+        raise InputError(f"L(t) = {length} needs numbers for {', '.join(sorted(s.name for s in rest))}")
+    return sp.lambdify(S.t, expr, "math"), expr
+
+
+def length_zero_time(length, values, horizon=None):
+    """The first t > 0 with L(t) = 0 (a float), or None if L stays positive.
+
+    Exact for a polynomial L(t) (real roots of the polynomial); for any other
+    length the interval (0, ``horizon``] is scanned on 4096 points and the
+    first sign change refined by Brent's method (scipy.optimize.brentq), so a
+    zero the scan steps over is left to the integrator's event.
+    """
+    fn, expr = length_function(length, values)
+    if expr.is_polynomial(S.t):
+        poly = sp.Poly(expr, S.t)
+        if poly.degree() < 1:
+            return None
+        roots = [complex(r) for r in np.roots([float(c) for c in poly.all_coeffs()])]
+        positive = sorted(r.real for r in roots if abs(r.imag) <= 1e-12 * max(1, abs(r)) and r.real > 0)
+        return positive[0] if positive else None
+    if horizon is None:
+        return None
+    from scipy.optimize import brentq
+    grid = np.linspace(0.0, float(horizon), 4097)
+    vals = np.array([fn(x) for x in grid])
+    below = np.nonzero(vals <= 0)[0]
+    if below.size == 0:
+        return None
+    j = below[0]
+    return brentq(fn, grid[j - 1], grid[j], xtol=1e-14, rtol=1e-15) if j > 0 else 0.0
+
+
+# ---------------------------------------------------------------------------
+# the right-hand side (switch here to the generated kernels)
+# ---------------------------------------------------------------------------
+
+@lru_cache(maxsize=32)
+def _rhs_cached(time, states, params, exprs):
+    return sp.lambdify((time, states, params), list(exprs), "math")
+
+
+def _rhs(fos, linear):
+    """f(t, y, p) -> [dtheta, theta''] of the derivation, scalar floats.
+
+    A scalar ``sympy.lambdify`` of ``fos.linear_rhs`` / ``fos.rhs`` (the same
+    expressions as ``fos.lambdified()``, without the array broadcasting, about
+    60 times faster per call).  TODO(codegen): use the generated RHS of
+    pendulab.numerics.integrate here once it is merged.
+    """
+    return _rhs_cached(fos.time, tuple(fos.states), tuple(fos.params),
+                       tuple(fos.linear_rhs if linear else fos.rhs))
+
+
+# ---------------------------------------------------------------------------
+# integration
+# ---------------------------------------------------------------------------
+
+#: the event of :func:`integrate` fires when L(t) falls below this fraction of L(0)
+LENGTH_FLOOR = 1e-6
+
+
+def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False,
+              rtol=RTOL, atol=None, points=2001, t_eval=None):
+    """Integrate the variable-length pendulum from t = 0 to ``t_end`` (DOP853).
+
+    ``fos`` is the numerics stage's system (:func:`pendulab.numerics.model.length_system`;
+    state (theta, dtheta), rhs 002 eq. 3, linear_rhs 002 eq. 4), ``length``
+    the scene's L(t) (a SymPy expression in t), ``values`` {name: number}
+    for every parameter of ``fos.params`` and of ``length`` (e.g. ``{"g": 9.81,
+    "L0": 1, "v0": 0.01}``).  Initial state theta(0) = ``theta_0``,
+    theta'(0) = ``dtheta_0`` (002 takes 0).  Output on ``points`` equally
+    spaced times (or on ``t_eval``), plus every turning point (dtheta = 0).
+
+    Raises :class:`LengthReachesZeroError` when L(t) reaches 0 at or before
+    ``t_end``: found from the length expression before integrating, and by a
+    terminal event L(t) = LENGTH_FLOOR L(0) for lengths whose zero is not
+    found in advance.  Never returns NaN (a non-finite state raises
+    :class:`~pendulab.errors.ConvergenceError`).
+    """
+    from scipy.integrate import solve_ivp
+
+    t_end = _finite("t_end", t_end)
+    if t_end <= 0:
+        raise InputError(f"t_end: must be positive, got {t_end!r}")
+    theta_0 = _finite("theta_0", theta_0)
+    dtheta_0 = _finite("dtheta_0", dtheta_0)
+    if not 0 < rtol < 1:
+        raise InputError(f"rtol: must lie in (0, 1), got {rtol!r}")
+    p = _param_values(fos.params, values, "the equation of motion")
+    used = {s.name: v for s, v in zip(fos.params, p)}
+    lfun, lexpr = length_function(length, values)
+    l0 = lfun(0.0)
+    if not l0 > 0:
+        raise InputError(f"L(0) = {l0!r} with these values: the length must be positive at t = 0")
+    t_zero = length_zero_time(length, values, horizon=t_end)
+    if t_zero is not None and t_zero <= t_end:
+        raise LengthReachesZeroError(
+            f"L(t) = {length} reaches 0 at t = {t_zero:.12g} (values {used}); t_end = {t_end:.12g} "
+            f"lies at or beyond it, where the equation divides by L: integrate to t_end < {t_zero:.12g}",
+            t_zero)
+    f = _rhs(fos, linear)
+
+    def rhs(t, y):
+        return f(t, (y[0], y[1]), p)
+
+    floor = LENGTH_FLOOR * l0
+
+    def short(t, y):
+        return lfun(t) - floor
+    short.terminal = True
+    short.direction = -1
+
+    def turning(t, y):
+        return y[1]
+
+    def crossing(t, y):
+        return y[0]
+
+    if atol is None:
+        atol = rtol * 1e-3 * max(abs(theta_0), abs(dtheta_0), 1e-300)
+    if t_eval is None:
+        t_eval = np.linspace(0.0, t_end, int(points))
+    sol = solve_ivp(rhs, (0.0, t_end), [theta_0, dtheta_0], method="DOP853", rtol=rtol, atol=atol,
+                    t_eval=t_eval, events=(short, turning, crossing))
+    if sol.t_events[0].size:
+        te = float(sol.t_events[0][0])
+        raise LengthReachesZeroError(
+            f"L(t) = {length} falls to {LENGTH_FLOOR:g} L(0) at t = {te:.12g} (values {used}): the "
+            f"string has no length left before t_end = {t_end:.12g}; integrate to t_end < {te:.12g}", te)
+    if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+        raise ConvergenceError(f"DOP853 did not reach t_end = {t_end:.12g}: {sol.message}")
+    tt = sol.t_events[1]
+    th = sol.y_events[1][:, 0] if tt.size else np.empty(0)
+    # the start (dtheta(0) = 0, or theta(0) = 0) is not an event of the motion
+    start = 1e-12 * t_end
+    keep = tt > start
+    tc = sol.t_events[2]
+    return Trajectory(sol.t, sol.y[0], sol.y[1], dict(values), bool(linear),
+                      (tt[keep], th[keep]), np.asarray(tc[tc > start]), int(sol.nfev))
+
+
+# ---------------------------------------------------------------------------
+# the closed form (pipeline stage closed_form) at the same times
+# ---------------------------------------------------------------------------
+
+def _closed_expr(solution, length, keep_B=True):
+    """theta as an expression in (t, theta_0, parameters) from the closed form stage."""
+    z_t = solution.z_of_L.subs(S.Lvar, length)
+    z0 = solution.z_of_L.subs(S.Lvar, length.subs(S.t, 0))
+    constants = dict(solution.constants)
+    if not keep_B:
+        constants[S.B] = sp.Integer(0)
+    expr = solution.general_z.subs(constants).subs(solution.z0_symbol, z0)
+    return expr.subs(S.z, z_t)
+
+
+def closed_form_theta(solution, length, values, theta_0, times, *, engine="scipy", dps=30,
+                      keep_B=True):
+    """The closed form theta(t) at ``times`` (a float array).
+
+    ``solution`` is the pipeline's closed_form stage (a solved
+    :class:`~pendulab.analyses.bessel.BesselSolution`): theta = A z^-1 J1(z) + B z^-1 Y1(z)
+    with A, B fixed by theta(0) = ``theta_0``, theta'(0) = 0 (002, "Pela regra
+    de Cramer") and z = (2/v0) sqrt(g L(t)).  ``engine="scipy"`` evaluates
+    the expression with scipy.special.jv/yv on the whole array (double
+    precision; fast), ``engine="mpmath"`` point by point at ``dps`` digits.
+    ``keep_B=False`` drops the Y1 term (the z0 = j_{2,k} case, where B = 0).
+    """
+    expr = substitute(_closed_expr(solution, length, keep_B), values)
+    rest = expr.free_symbols - {S.t, S.theta_0}
+    if rest:
+        raise InputError(f"the closed form needs numbers for {', '.join(sorted(s.name for s in rest))}")
+    th0 = _finite("theta_0", theta_0)
+    times = np.asarray(times, dtype=float)
+    if engine == "scipy":
+        fn = sp.lambdify((S.t, S.theta_0), expr, ["scipy", "numpy"])
+        return np.broadcast_to(np.asarray(fn(times, th0), dtype=float), times.shape).copy()
+    if engine != "mpmath":
+        raise InputError(f"engine: must be 'scipy' or 'mpmath', got {engine!r}")
+    import mpmath
+    fn = sp.lambdify((S.t, S.theta_0), expr, "mpmath")
+    with mpmath.workdps(dps):
+        m0 = mpmath.mpf(th0)
+        return np.array([float(mpmath.re(fn(mpmath.mpf(float(x)), m0))) for x in times])
+
+
+def closed_form_constants(solution, length, values, theta_0, *, dps=30, z0=None):
+    """(z0, A, B) of the closed form as mpmath numbers at ``dps`` digits.
+
+    ``z0`` (an mpmath number) overrides the z0 of ``values`` (used to
+    evaluate A, B exactly at a zero of J2).
+    """
+    import mpmath
+    z0_expr = substitute(solution.z_of_L.subs(S.Lvar, length.subs(S.t, 0)), values)
+    th0 = sp.Float(_finite("theta_0", theta_0), 17)
+    with mpmath.workdps(dps + 10):
+        z0v = sp.lambdify((), z0_expr, "mpmath")() if z0 is None else mpmath.mpf(z0)
+        out = [z0v]
+        for key in (S.A, S.B):
+            c = substitute(solution.constants[key].subs(S.theta_0, th0), values)
+            out.append(sp.lambdify(solution.z0_symbol, c, "mpmath")(z0v))
+    return tuple(+x for x in out)
+
+
+def relative_agreement(numeric, reference):
+    """max |numeric - reference| / max |reference| (floats; the scale is the motion's size)."""
+    numeric, reference = np.asarray(numeric, float), np.asarray(reference, float)
+    scale = np.max(np.abs(reference))
+    if not scale > 0:
+        raise InputError("the reference motion is identically zero: no relative agreement")
+    return float(np.max(np.abs(numeric - reference)) / scale)
+
+
+# ---------------------------------------------------------------------------
+# z0 at a zero of J2: B = 0 (002, "Conseqüência")
+# ---------------------------------------------------------------------------
+
+def b_zero_length(solution, length, values, k=None, *, dps=30):
+    """The initial length L0 that puts z0 at the k-th zero of J2, so that B = 0.
+
+    ``solution.constants[B]`` is proportional to J2(z0) (derived: B = (pi/2) theta_0 z0^2 J2(z0);
+    002 prints the opposite sign); the closed form's z0 expression is solved for L0 with
+    z0 = j_{2,k} (mpmath.besseljzero).  ``k=None`` takes the zero nearest to
+    the z0 of ``values``.  Returns (L0, k, j_{2,k}) with L0 a float and
+    j_{2,k} an mpmath number at ``dps`` digits.
+    """
+    import mpmath
+    z0 = solution.z_of_L.subs(S.Lvar, length.subs(S.t, 0))
+    if S.L0 not in z0.free_symbols:
+        raise InputError(f"z0 = {z0} does not depend on L0: cannot adjust L0")
+    others = {n: v for n, v in values.items() if n != "L0"}
+    z0_of_L0 = substitute(z0, others)
+    jsym = sp.Symbol("j", positive=True)
+    roots = sp.solve(sp.Eq(z0_of_L0, jsym), S.L0)
+    if len(roots) != 1:
+        raise InputError(f"cannot solve z0 = {z0} for L0 uniquely (solutions: {roots})")
+    with mpmath.workdps(dps + 10):
+        if k is None:
+            current = float(sp.lambdify((), substitute(z0, values), "mpmath")())
+            # McMahon's leading term j_{2,k} ~ (k + 1/2 + 1/4) pi brackets the index; pick the nearest.
+            guess = max(1, int(round(current / math.pi - 0.75)))
+            cands = [c for c in (guess - 1, guess, guess + 1) if c >= 1]
+            k = min(cands, key=lambda c: abs(mpmath.besseljzero(2, c) - current))
+        if isinstance(k, bool) or not isinstance(k, int) or k < 1:
+            raise InputError(f"k: must be a positive integer, got {k!r}")
+        j = mpmath.besseljzero(2, k)
+        l0 = roots[0].subs(jsym, sp.Float(mpmath.nstr(j, dps + 5), dps + 5))
+        return float(l0), k, +j
+
+
+# ---------------------------------------------------------------------------
+# the amplitude law (adiabatic invariant E/omega)
+# ---------------------------------------------------------------------------
+
+def amplitude_exponent(system, equations):
+    """The exponent q of amplitude ~ L^q for slow lengthening, derived from E/omega = const.
+
+    With the length frozen at L (L' = L'' = 0), the linear equation
+    (equations stage, 002 eq. 4) reads lead * theta'' + restoring * theta = 0,
+    so omega^2 = restoring/lead; the small-oscillation energy of amplitude a
+    is V(a) - V(0) of the system's potential energy to second order in a.
+    Solving E/omega = C for a gives a as a power of L; the exponent is
+    L d(log a)/dL, simplified.  Returns a SymPy Rational (for the string: -3/4).
+    """
+    amp = sp.Symbol("a_theta", positive=True)
+    const = sp.Symbol("C_inv", positive=True)
+    th = system.coordinate
+    ell = S.L(S.t)
+    frozen = {ell.diff(S.t, 2): 0, ell.diff(S.t): 0}
+    lin = sp.expand(equations.linear.subs(frozen).subs(ell, S.Lvar))
+    lead = lin.coeff(th.diff(S.t, 2))
+    restoring = sp.expand(lin - lead * th.diff(S.t, 2)).coeff(th)
+    omega = sp.sqrt(sp.simplify(restoring / lead))
+    v = sp.sympify(system.potential_energy).subs(ell, S.Lvar)
+    v_amp = v.subs(th, amp)
+    energy = sp.series(v_amp - v_amp.subs(amp, 0), amp, 0, 3).removeO()
+    sols = [s for s in sp.solve(sp.Eq(energy / omega, const), amp) if s.is_positive is not False]
+    if len(sols) != 1:
+        raise InputError(f"E/omega = const does not give one amplitude (got {sols})")
+    exponent = sp.simplify(S.Lvar * sp.diff(sp.log(sols[0]), S.Lvar))
+    if exponent.free_symbols:
+        raise InputError(f"the amplitude is not a power of L (d log a / d log L = {exponent})")
+    return exponent
+
+
+def turning_points(traj):
+    """(t, |theta|) at the turning points (dtheta = 0) of a :class:`Trajectory`."""
+    tt, th = traj.turning
+    return np.asarray(tt), np.abs(np.asarray(th))
+
+
+def quarter_periods(traj):
+    """The swings of a :class:`Trajectory` between its events, in time order.
+
+    A list of (kind, t_from, t_to): kind "toward" runs from a turning point
+    (dtheta = 0) to the next theta = 0, "outward" from theta = 0 to the next
+    turning point (002's "quarto-periodo").  The start (a turning point, as
+    theta'(0) = 0) counts as the first event.
+    """
+    events = sorted([(0.0, "turn")] + [(float(t), "turn") for t in traj.turning[0]]
+                    + [(float(t), "zero") for t in traj.crossings])
+    out = []
+    for (t1, k1), (t2, k2) in zip(events, events[1:]):
+        if k1 == k2:
+            raise ConvergenceError(f"two {k1} events in a row at t = {t1:.12g}, {t2:.12g}: the "
+                                   "event detection missed one (integrate with more points)")
+        out.append(("toward" if k1 == "turn" else "outward", t1, t2))
+    return out
+
+
+def zero_quarter_periods(k, count, growing=True, *, dps=20):
+    """The quarter periods of the z0 = j_{2,k} motion from the zeros of J1 and J2.
+
+    With B = 0, theta = A z^-1 J1(z): theta' = 0 at the zeros of J2, theta = 0
+    at those of J1 (d/dz[z^-1 J1] = -z^-1 J2).  z runs up from j_{2,k}
+    (growing string: j_{2,k}, j_{1,k+1}, j_{2,k+1}, ...) or down (shortening:
+    j_{2,k}, j_{1,k}, j_{2,k-1}, ..., j_{1,1}).  A swing lasts |z_b^2 - z_a^2|
+    in the unit |v0|/(4 g) (002).  Returns up to ``count`` pairs
+    (kind, duration) with durations as mpmath numbers (mpmath.besseljzero).
+    """
+    import mpmath
+    seq = []
+    with mpmath.workdps(dps + 5):
+        if growing:
+            for i in range(count + 1):
+                seq.append(mpmath.besseljzero(2, k + i // 2) if i % 2 == 0
+                           else mpmath.besseljzero(1, k + 1 + i // 2))
+        else:
+            for i in range(min(count + 1, 2 * k)):
+                seq.append(mpmath.besseljzero(2, k - i // 2) if i % 2 == 0
+                           else mpmath.besseljzero(1, k - i // 2))
+        return [("toward" if i % 2 == 0 else "outward", abs(b**2 - a**2))
+                for i, (a, b) in enumerate(zip(seq, seq[1:]))][:count]
+
+
+def fit_exponent(traj, length, skip=0):
+    """Least-squares slope of log|theta| at the turning points against log L(t).
+
+    Returns (slope, points used, the max deviation of log|theta| from the
+    fitted line).  ``skip`` leaves out the first turning points.
+    """
+    tt, amp = turning_points(traj)
+    tt, amp = tt[skip:], amp[skip:]
+    if tt.size < 3:
+        raise InputError(f"only {tt.size} turning points: integrate longer to fit an exponent")
+    lfun, _ = length_function(length, traj.values)
+    x = np.log([lfun(t) for t in tt])
+    y = np.log(amp)
+    slope, intercept = np.polyfit(x, y, 1)
+    return float(slope), int(tt.size), float(np.max(np.abs(y - (slope * x + intercept))))
+
+
+# ---------------------------------------------------------------------------
+# periodic L(t): Floquet verdict from the monodromy matrix
+# ---------------------------------------------------------------------------
+
+def _monodromy_floquet_verdict(fos, params, *, rtol=RTOL, margin=1e-8):
+    """Monodromy matrix of the linear equation over one period, and its verdict.
+
+    TODO(road): replace by pendulab.numerics.monodromy.floquet_verdict(fos, params, ...)
+    once merged; this private helper is the minimal stand-in.  ``params`` is
+    a tuple of floats in ``fos.params`` order.  Integrates Y' = A(t) Y,
+    Y(0) = identity (A = ``fos.linear_matrix()``, 2 x 2) over
+    one period T = ``fos.period`` with DOP853.  Returns a dict: ``matrix``
+    (2 x 2 ndarray), ``multipliers`` (eigenvalues), ``trace``, ``det`` and
+    ``verdict``: "unstable" if max |multiplier| > 1 + margin, "stable" if
+    |trace| < 2 - margin and det within margin of 1, else "boundary".
+    """
+    from scipy.integrate import solve_ivp
+    period_expr = substitute(fos.period, dict(zip((s.name for s in fos.params), params)))
+    period = float(period_expr)
+    a = sp.lambdify((fos.time, fos.params), fos.linear_matrix().tolist(), "math")
+
+    def rhs(t, y):
+        m = a(t, params)
+        return [m[0][0] * y[0] + m[0][1] * y[2], m[0][0] * y[1] + m[0][1] * y[3],
+                m[1][0] * y[0] + m[1][1] * y[2], m[1][0] * y[1] + m[1][1] * y[3]]
+
+    sol = solve_ivp(rhs, (0.0, period), [1.0, 0.0, 0.0, 1.0], method="DOP853",
+                    rtol=rtol, atol=rtol * 1e-3)
+    if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+        raise ConvergenceError(f"monodromy integration failed: {sol.message}")
+    m = sol.y[:, -1].reshape(2, 2)
+    mult = np.linalg.eigvals(m)
+    trace, det = float(np.trace(m)), float(np.linalg.det(m))
+    if np.max(np.abs(mult)) > 1 + margin:
+        verdict = "unstable"
+    elif abs(trace) < 2 - margin and abs(det - 1) < margin:
+        verdict = "stable"
+    else:
+        verdict = "boundary"
+    return {"matrix": m, "multipliers": mult, "trace": trace, "det": det,
+            "verdict": verdict, "period": period}
+
+
+def periodic_verdict(fos, values, *, rtol=RTOL):
+    """The Floquet verdict of a periodic L(t) (``fos.period`` not None); see
+    :func:`_monodromy_floquet_verdict` for the returned dict."""
+    if fos.period is None:
+        raise InputError(f"L(t) is not periodic ({fos.note}): no Floquet verdict")
+    p = _param_values(fos.params, values, "the Floquet verdict")
+    return _monodromy_floquet_verdict(fos, p, rtol=rtol)
+
+
+def growth_factor(traj, period):
+    """max |theta| over the last period of ``traj`` divided by max |theta| over its first."""
+    t = traj.t
+    first = np.abs(traj.theta[t <= t[0] + period]).max()
+    last = np.abs(traj.theta[t >= t[-1] - period]).max()
+    return float(last / first)
