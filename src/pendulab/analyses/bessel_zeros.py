@@ -27,10 +27,10 @@ j_nu,1 < j_nu,2 < ... to ``dps`` significant digits, each digit proved:
      least pi/sqrt(q(x)) after x when nu < 1/2; hence J_nu is evaluated
      (as balls) at points 1/2 apart from 2 sqrt(nu + 1): the first point where
      it is negative brackets j_nu,1 with no zero before it;
-   * after a zero x the next one lies in a window of width < pi (Sturm's upper
-     bound pi/sqrt(q(x)) for nu >= 1/2; the lower one for nu < 1/2), which
-     holds exactly one zero: each certified ball must lie in the window
-     computed from the previous ball.
+   * after a zero x the next one is at most pi/sqrt(q(x)) (nu >= 1/2), resp.
+     pi (nu < 1/2), further, and the one after it at least twice the minimal
+     gap: each certified ball must lie in the window between the previous
+     ball and twice the minimal gap (:func:`next_window`).
 
    Two further checks, not needed for the proof but failing on a wrong index:
    the asymptotic phase theta_nu(x) ~ x - (nu/2 + 1/4) pi + phi(x)
@@ -56,7 +56,7 @@ from pendulab.errors import ConvergenceError, InputError
 #: limits of the public API (the command line and the product use the same)
 MAX_DPS = 10_000
 MAX_COUNT = 100_000
-MAX_ORDER = 1000
+MAX_ORDER = 300
 
 
 class CertificationError(ConvergenceError):
@@ -384,21 +384,35 @@ def _gap_q(nu_b, x):
 
 
 def next_window(nu, prev, bits=64):
-    """(lo, hi): the open interval holding exactly one zero after the zero in the ball ``prev``.
+    """(a, b, c): after the zero x in the ball ``prev``, (a, b) holds exactly one zero, the next.
 
-    Sturm's comparison for u'' + q u = 0 (module docstring, step 4).
+    Sturm's comparison for u'' + q u = 0 (module docstring, step 4): zeros
+    are at least pi apart for nu >= 1/2 (q <= 1) and at least pi/sqrt(Q)
+    apart after x for nu < 1/2 (q <= Q = q(inf prev)); the next zero is at
+    most pi/sqrt(q(x)) (nu >= 1/2), resp. pi (nu < 1/2), after x.  So with
+    G = 2 pi, resp. 2 pi/sqrt(Q), the interval (sup prev, inf prev + G) holds
+    the next zero and not the one after it.  ``c`` (> a) is a point with no
+    zero in (a, c], where a bracket search for the next zero can start.
     """
     with _Prec(bits):
         nu_b = _order_ball(nu)
         lo, hi = prev.lower(), prev.upper()
         pi = arb.pi()
-        if nu >= Fraction(1, 2):
-            q = _gap_q(nu_b, lo)
-            if not q > 0:
-                raise CertificationError(f"zero {prev} of J_{nu} is below sqrt(nu^2 - 1/4)")
-            return (lo + pi).lower(), (hi + pi / q.sqrt()).upper()
-        q = _gap_q(nu_b, lo)  # > 1 here
-        return (lo + pi / q.sqrt()).lower(), (hi + pi).upper()
+        q = _gap_q(nu_b, lo)
+        if q > arb(1) / 4:
+            gap = pi if nu >= Fraction(1, 2) else pi / q.sqrt()
+            return hi.upper(), (lo + 2 * gap).lower(), (hi + gap / 2).upper()
+        # Near the turning point (x < 1.16 nu): the next zero z1 is in [a1, b1] with
+        # b1 = x + pi/sqrt(q(x)) and, q increasing, z1 - x >= pi/sqrt(q(z1)) >= pi/sqrt(q(b1));
+        # the zero after it is at least pi beyond z1, hence beyond b1 if a1 + pi > b1.
+        if not q > 0:
+            raise CertificationError(f"zero {prev} of J_{nu} is below sqrt(nu^2 - 1/4)")
+        b1 = (hi + pi / q.sqrt()).upper()
+        a1 = (lo + pi / _gap_q(nu_b, b1).sqrt()).lower()
+        if not a1 + pi > b1:
+            raise CertificationError(f"the Sturm window after the zero {prev} of J_{nu} is too wide "
+                                     "to exclude a second zero")
+        return a1, b1, a1
 
 
 def first_bracket(nu, bits=64, step=Fraction(1, 2)):
@@ -514,21 +528,24 @@ def bessel_zeros(nu, count, dps, extra_bits=0, window_bits=None):
         if prev is None:
             lo, hi, sa = first_bracket(nu)
         else:
-            lo, hi = next_window(nu, prev, bits)
+            lo, hi, start = next_window(nu, prev, bits)
             sa = None
         x, acc = mcmahon_start(nu, k, min(bits, 256))
-        if not (lo < x < hi) or acc < 20:
+        if not (lo < x and x < hi) or acc < 20:
             if sa is None:
-                sa = _sign_certain(nu, lo, 64)
+                lo_s = start
+                sa = _sign_certain(nu, lo_s, 64)
                 if sa == 0:
-                    raise CertificationError(f"J_{nu} has no certain sign at {lo}")
-            x, acc = _bracket_newton(nu, lo, hi, sa, x)
+                    raise CertificationError(f"J_{nu} has no certain sign at {lo_s}")
+            else:
+                lo_s = lo
+            x, acc = _bracket_newton(nu, lo_s, hi, sa, x)
         if acc < bits // 2 + 10:
             x = _refine(nu, x, acc, bits)
             acc = bits // 2 + 10
         while True:
             ball = _certify(nu, x, bits, acc)
-            if not (lo < ball.lower() and ball.upper() < hi):
+            if not (lo < ball and ball < hi):  # exact comparisons of balls
                 raise CertificationError(f"zero {ball} of J_{nu} is not in the window ({lo}, {hi}) of "
                                          f"zero number {k}: index not certified")
             text = ball_digits(ball, dps)
@@ -559,8 +576,8 @@ def check_index(nu, balls):
         if k == 1:
             lo, hi, _ = first_bracket(nu)
         else:
-            lo, hi = next_window(nu, balls[k - 2], max(64, balls[k - 2].mid().bits() + 16))
-        if not (lo < ball.lower() and ball.upper() < hi):
+            lo, hi, _ = next_window(nu, balls[k - 2], max(64, balls[k - 2].mid().bits() + 16))
+        if not (lo < ball and ball < hi):
             raise CertificationError(f"ball {k} ({ball}) is not zero number {k} of J_{nu}: it is outside "
                                      f"({lo}, {hi})")
     return True
