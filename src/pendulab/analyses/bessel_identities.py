@@ -201,7 +201,7 @@ def check_identities(nmax, dps, points=None, engines=ENGINES):
         vals = {}
         if "arb" in engines:
             vals["arb"] = _arb_values(nmax + 1, z, bits)
-            with _Prec(bits):
+            with _Prec(bits), mpmath.workdps(dps + 10):
                 for n in range(nmax + 1):
                     errs, cross, zw = _errors(*vals["arb"], n, arb(z), two_pi_arb, abs)
                     if not (cross + two_pi_arb / arb(z)).contains(0):
