@@ -196,6 +196,8 @@ class _Prec:
 
 
 def _order_ball(nu):
+    if nu.denominator == 1:
+        return arb(int(nu.numerator))  # exact at every precision
     return arb(fmpq(nu.numerator, nu.denominator))
 
 
@@ -240,7 +242,8 @@ def interval_newton(nu, mid, radius, bits):
     :class:`CertificationError` (f'(X) contains 0, or N(X) is not inside X:
     X holds no zero or its midpoint is too far from one).
     """
-    nu = parse_order(nu)
+    if not isinstance(nu, Fraction):
+        nu = parse_order(nu)
     with _Prec(bits):
         nu_b = _order_ball(nu)
         m = arb(mid).mid()
@@ -271,10 +274,11 @@ _COEFF_CACHE = {}
 
 def _mcmahon_values(nu):
     """c_j(4 nu^2) as exact rationals (fmpq), cached per order."""
-    if nu not in _COEFF_CACHE:
+    key = (nu.numerator, nu.denominator)
+    if key not in _COEFF_CACHE:
         mu = fmpq(4) * fmpq(nu.numerator, nu.denominator) ** 2
-        _COEFF_CACHE[nu] = [poly_at(c, mu) for c in mcmahon_coefficients()]
-    return _COEFF_CACHE[nu]
+        _COEFF_CACHE[key] = [arb(poly_at(c, mu)) for c in mcmahon_coefficients()]
+    return _COEFF_CACHE[key]
 
 
 def mcmahon_start(nu, k, bits):
@@ -290,13 +294,16 @@ def mcmahon_start(nu, k, bits):
         inv2 = 1 / (beta * beta)
         power = 1 / beta
         last = None
+        enough = abs(beta).abs_upper() * arb(2) ** (-bits)
         for c in coeffs:
-            term = arb(c) * power
+            term = c * power
             size = abs(term).abs_upper()
             if last is not None and size >= last:
                 break
             x = x + term
             last = size
+            if size < enough:
+                break
             power = power * inv2
         x = x.mid()
         if last is None or last == 0:
@@ -459,33 +466,30 @@ def _sign_certain(nu, y, bits, top=4096):
 _PHASE_CACHE = {}
 
 
-def phase_index(nu, x, bits=64):
+def phase_index(nu, x):
     """k with theta_nu(x) closest to (k - 1/2) pi, from the asymptotic phase, or None.
 
-    None where the phase series is not accurate to 0.05 at x (its smallest
-    term is not below 0.05, i.e. x is not large against nu^2).
+    Evaluated in double precision (the terms are small and x < 10^6, so the
+    rounding error is far below the 0.25 margin asked for); None where the
+    phase series is not accurate to 0.05 at x (x not large against nu^2).
     """
     if nu not in _PHASE_CACHE:
         mu = fmpq(4) * fmpq(nu.numerator, nu.denominator) ** 2
-        _PHASE_CACHE[nu] = [(j, poly_at(c, mu)) for j, c in enumerate(phase_coefficients()) if j % 2]
-    with _Prec(bits):
-        X = arb(x).mid()
-        y = 1 / X
-        phi, last, power = arb(0), None, y
-        for j, c in _PHASE_CACHE[nu]:
-            term = arb(c) * y ** j
-            size = abs(term).abs_upper()
-            if last is not None and size >= last:
-                break
-            phi, last = phi + term, size
-        if last is None or not last < arb("0.05"):
-            return None
-        theta = X - (_order_ball(nu) / 2 + arb(1) / 4) * arb.pi() + phi
-        kk = theta / arb.pi() + arb(1) / 2
-        k = int(float(kk.mid()) + 0.5)
-        if abs(kk - k) < arb("0.25"):
-            return k
+        _PHASE_CACHE[nu] = [(j, float(poly_at(c, mu).p) / float(poly_at(c, mu).q))
+                            for j, c in enumerate(phase_coefficients()) if j % 2]
+    xf = float(arb(x).mid())
+    y = 1.0 / xf
+    phi, last = 0.0, None
+    for j, c in _PHASE_CACHE[nu]:
+        term = c * y ** j
+        if last is not None and abs(term) >= last:
+            break
+        phi, last = phi + term, abs(term)
+    if last is None or not last < 0.05:
         return None
+    kk = (xf - (float(nu) / 2 + 0.25) * math.pi + phi) / math.pi + 0.5
+    k = int(kk + 0.5)
+    return k if abs(kk - k) < 0.25 else None
 
 
 @dataclass
