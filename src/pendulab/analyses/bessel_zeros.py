@@ -217,11 +217,11 @@ def _eval(nu, x, bits, tol_bits):
             xm = arb(x).mid()
             f, fp = _f_fp(nu_b, xm)
             if not fp.contains(0):
-                err = f.rad() / abs(fp).abs_lower()
-                if err <= abs(xm) * arb(2) ** (-tol_bits):
+                # rad(f)/|f'| <= 2^-tol |x|, in floats (exponents only matter here)
+                rel = float(f.rad()) / (float(abs(fp).abs_lower()) * abs(float(xm)))
+                if rel == 0.0 or math.log2(rel) <= -tol_bits - 1:
                     return f, fp, w
-                need = int(float((err / abs(xm)).log() / arb(2).log())) + tol_bits + 8
-                w += max(need, 16)
+                w += max(int(math.log2(rel)) + tol_bits + 8, 16)
             else:
                 w += max(32, w // 2)
     raise CertificationError(f"J_{nu} cannot be evaluated accurately near {x}")
@@ -252,7 +252,7 @@ def interval_newton(nu, mid, radius, bits):
         lo = X.lower()
         if not lo > 0:
             raise CertificationError(f"interval [{X}] for a zero of J_{nu} is not positive")
-        rel = max(int(-float((r / abs(m)).log() / arb(2).log())) + 4, 8)
+        rel = max(int(-math.log2(float(r) / abs(float(m)))) + 4, 8)
         f, fp, w = _eval(nu, m, bits, rel)
     with _Prec(w):
         nu_b = _order_ball(nu)
