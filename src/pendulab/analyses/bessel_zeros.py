@@ -277,7 +277,8 @@ def _mcmahon_values(nu):
     key = (nu.numerator, nu.denominator)
     if key not in _COEFF_CACHE:
         mu = fmpq(4) * fmpq(nu.numerator, nu.denominator) ** 2
-        _COEFF_CACHE[key] = [arb(poly_at(c, mu)) for c in mcmahon_coefficients()]
+        # exact rationals: an arb made now would keep the precision of the first caller
+        _COEFF_CACHE[key] = [poly_at(c, mu) for c in mcmahon_coefficients()]
     return _COEFF_CACHE[key]
 
 
@@ -296,7 +297,7 @@ def mcmahon_start(nu, k, bits):
         last = None
         enough = abs(beta).abs_upper() * arb(2) ** (-bits)
         for c in coeffs:
-            term = c * power
+            term = arb(c) * power
             size = abs(term).abs_upper()
             if last is not None and size >= last:
                 break
