@@ -63,7 +63,7 @@ def test_the_sources_eight_zeros_to_every_printed_digit():
 
 
 @pytest.mark.parametrize("nu, count, dps", [(1, 40, 50), (2, 40, 50), (0, 10, 30), ("1/3", 10, 40),
-                                            ("2.5", 5, 60), (0.5, 5, 25), (30, 5, 25)])
+                                            ("2.5", 5, 60), (0.5, 5, 25), (30, 5, 25), (1, 3, 1000)])
 def test_every_digit_agrees_with_mpmath_besseljzero(nu, count, dps):
     res = bessel_zeros(nu, count, dps)
     nu_q = Fraction(nu) if not isinstance(nu, float) else Fraction(nu)

@@ -207,6 +207,13 @@ def _f_fp(nu_b, x):
     return f, nu_b / x * f - x.bessel_j(nu_b + 1)
 
 
+def _log2(x):
+    """About log2 |x| for an arb (exponent arithmetic, no float underflow); -inf for 0."""
+    man, exp = abs(x).abs_upper().man_exp()
+    man = int(man)
+    return -math.inf if man == 0 else int(exp) + man.bit_length()
+
+
 def _eval(nu, x, bits, tol_bits):
     """(f, f') at x with rad(f)/|f'| below 2^-tol_bits |x|: the precision is raised past
     the digits arb loses (J_nu for x below nu loses many).  Returns (f, f', bits used)."""
@@ -217,11 +224,11 @@ def _eval(nu, x, bits, tol_bits):
             xm = arb(x).mid()
             f, fp = _f_fp(nu_b, xm)
             if not fp.contains(0):
-                # rad(f)/|f'| <= 2^-tol |x|, in floats (exponents only matter here)
-                rel = float(f.rad()) / (float(abs(fp).abs_lower()) * abs(float(xm)))
-                if rel == 0.0 or math.log2(rel) <= -tol_bits - 1:
+                # rad(f)/|f'| <= 2^-tol |x|, by exponents (a bit or two either way is fine)
+                lrel = _log2(f.rad()) - _log2(abs(fp).abs_lower()) + 1 - _log2(xm)
+                if lrel <= -tol_bits - 1:
                     return f, fp, w
-                w += max(int(math.log2(rel)) + tol_bits + 8, 16)
+                w += max(int(lrel) + tol_bits + 8, 16)
             else:
                 w += max(32, w // 2)
     raise CertificationError(f"J_{nu} cannot be evaluated accurately near {x}")
@@ -252,7 +259,7 @@ def interval_newton(nu, mid, radius, bits):
         lo = X.lower()
         if not lo > 0:
             raise CertificationError(f"interval [{X}] for a zero of J_{nu} is not positive")
-        rel = max(int(-math.log2(float(r) / abs(float(m)))) + 4, 8)
+        rel = max(_log2(m) - _log2(r) + 3, 8)
         f, fp, w = _eval(nu, m, bits, rel)
     with _Prec(w):
         nu_b = _order_ball(nu)
