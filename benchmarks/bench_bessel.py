@@ -82,6 +82,9 @@ def main():
     rep, t_arb = timed(check_identities, 20, 50, grid, engines=("arb",), repeat=2)
     print(f"3. identities n = 0..20, 200 points, 50 digits, arb engine: {t_arb:.2f} s (target 1 s); "
           f"worst {mpmath.nstr(rep.worst[0], 3)} ({rep.worst[2]}, n = {rep.worst[3]}, z = {rep.worst[1]:.4g})")
+    rep_c, t_cross = timed(check_identities, 20, 50, grid, engines=("arb",), rules=("cross",), repeat=2)
+    print(f"   the cross product alone (no derivatives), arb: {t_cross:.2f} s; worst "
+          f"{mpmath.nstr(rep_c.worst[0], 3)}")
     sub = grid[::10]
     rep_mp, t_mp_id = timed(check_identities, 20, 50, sub, engines=("mpmath",))
     t_mp_id_full = t_mp_id * len(grid) / len(sub)

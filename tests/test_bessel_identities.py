@@ -29,6 +29,12 @@ def test_identities_hold_to_the_precision_asked(dps):
             assert abs(rep.limit_D[engine] - 2 / mpmath.pi) < mpmath.mpf(10) ** (-dps)
 
 
+def test_cross_product_alone():
+    rep = bi.check_identities(20, 50, [1e-30, 0.5, 19.79, 1e6], rules=("cross",))
+    assert set(rep.by_rule) == {("arb", "cross"), ("mpmath", "cross")}
+    assert rep.worst[0] < mpmath.mpf(10) ** -50 and rep.arb_certified
+
+
 def test_high_precision_arb_only():
     rep = bi.check_identities(2, 300, [1e-30, 1.0, 1e6], engines=("arb",))
     assert rep.worst[0] < mpmath.mpf(10) ** -300
@@ -38,8 +44,8 @@ def test_a_wrong_engine_is_caught(monkeypatch):
     """Perturb mpmath's Y_1 by one part in 10^20: the engines no longer agree."""
     real = bi._mp_values
 
-    def broken(n_top, z, dps):
-        J, Y, dJ, dY = real(n_top, z, dps)
+    def broken(n_top, z, dps, derivatives=True):
+        J, Y, dJ, dY = real(n_top, z, dps, derivatives)
         with mpmath.workdps(dps + 10):
             Y[1] = Y[1] * (1 + mpmath.mpf(10) ** -20)
         return J, Y, dJ, dY
@@ -68,6 +74,7 @@ def test_double_precision_loses_digits_where_the_docs_say():
     (dict(nmax=2, dps=30, points=[-1.0]), "z must be a positive"),
     (dict(nmax=2, dps=30, points=[float("inf")]), "z must be a positive"),
     (dict(nmax=2, dps=30, points=[1.0], engines=("maple",)), "engines"),
+    (dict(nmax=2, dps=30, points=[1.0], rules=("wronskian",)), "rules"),
 ])
 def test_bad_arguments(kwargs, fragment):
     with pytest.raises(InputError, match=fragment):
