@@ -1,4 +1,4 @@
-"""Certified zeros j_nu,k of the Bessel function J_nu (any real nu >= 0).
+"""Certified zeros j_nu,k of the Bessel function J_nu (any real nu from 0 to 300).
 
 ``bessel_zeros(nu, count, dps)`` returns the first ``count`` positive zeros
 j_nu,1 < j_nu,2 < ... to ``dps`` significant digits, each digit proved:
@@ -6,7 +6,7 @@ j_nu,1 < j_nu,2 < ... to ``dps`` significant digits, each digit proved:
 1. **Start.**  McMahon's expansion j ~ beta + sum c_j beta^-(2j-1),
    beta = (k + nu/2 - 1/4) pi (DLMF 10.21.19), with the coefficients derived
    in :mod:`pendulab.analyses.bessel_asymptotics`; where it is not accurate
-   (small k, large nu) the start is taken inside the bracket of step 3.
+   (small k, large nu) the start is taken inside the bracket of step 4.
 2. **Newton**, f = J_nu, f' = (nu/x) J_nu - J_nu+1 (DLMF 10.6.2; 002 "Obs. 1"),
    in python-flint's arb at doubling precision.
 3. **Certificate of the zero**: one interval Newton step on X = [m - r, m + r]:
@@ -24,13 +24,17 @@ j_nu,1 < j_nu,2 < ... to ``dps`` significant digits, each digit proved:
      for nu > 1/2, where q < 0: u starts positive and increasing at 0+ and
      u'' = -q u > 0 keeps it so;
    * consecutive zeros are at least pi apart when nu >= 1/2 (q <= 1) and at
-     least pi/sqrt(q(x)) after x when nu < 1/2; hence J_nu is evaluated
-     (as balls) at points 1/2 apart from 2 sqrt(nu + 1): the first point where
-     it is negative brackets j_nu,1 with no zero before it;
+     least pi/sqrt(q(x)) (> 3 for x >= 2) after x when nu < 1/2; hence J_nu
+     is evaluated (as balls) at points 1/2 apart from the end of the interval
+     above: the first point where it is negative brackets j_nu,1 with no zero
+     before it;
    * after a zero x the next one is at most pi/sqrt(q(x)) (nu >= 1/2), resp.
      pi (nu < 1/2), further, and the one after it at least twice the minimal
      gap: each certified ball must lie in the window between the previous
-     ball and twice the minimal gap (:func:`next_window`).
+     ball and twice the minimal gap (:func:`next_window`; near the turning
+     point x ~ nu, where q(x) <= 1/4, a two-sided window from both Sturm
+     bounds, refused when it is too wide to exclude a second zero, which
+     limits nu to 300).
 
    Two further checks, not needed for the proof but failing on a wrong index:
    the asymptotic phase theta_nu(x) ~ x - (nu/2 + 1/4) pi + phi(x)
