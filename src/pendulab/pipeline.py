@@ -22,6 +22,7 @@ PRODUCTS = {
     "floquet": "pendulab.products.floquet",
     "stability": "pendulab.products.stability",
     "quarter_periods": "pendulab.products.quarter_periods",
+    "bessel": "pendulab.products.bessel",
     "motion": "pendulab.products.motion",
 }
 

@@ -18,8 +18,10 @@ Every step is checked by SymPy rather than asserted:
 * the constants A, B for theta(0) = theta_0, theta'(0) = 0 then follow by
   Cramer's rule and the cross product.
 
-High-precision numerical checks (mpmath) of the same identities live in
-:func:`check_cross_product_numerically`.
+High-precision numerical checks of the same identities, certified by two
+engines, live in :mod:`pendulab.analyses.bessel_identities`; certified zeros
+and 002's quarter periods in :mod:`pendulab.analyses.bessel_zeros` and
+:mod:`pendulab.analyses.bessel_periods`.
 """
 
 from dataclasses import dataclass
@@ -162,41 +164,33 @@ def check_cross_product_numerically(n, z_values, dps=50):
 # ---------------------------------------------------------------------------
 
 def quarter_periods(count=8, dps=30):
-    """Quarter periods of the B = 0 solution, from the zeros of J1 and J2 (002).
+    """Quarter periods of the B = 0 solution of the growing string, in time order (002).
 
-    With z0 = j_{2,1} (a zero of J2, so B = 0) the motion is
-    theta = -C L^-1/2 J1(z): theta = 0 at the zeros of J1 and theta' = 0 at
-    the zeros of J2 (d/dz[z^-1 J1] = -z^-1 J2).  Since z^2 = 4 g L/v0^2 and
-    L = L0 + v0 t, a time interval is (v0/(4 g)) times the change of z^2;
-    the source's table lists these changes in the unit v0/(4 g).
-
-    Returns a list of ``count`` records (dicts) in time order, each with the
-    zeros it runs between, the direction ("toward" equilibrium: from a J2 zero
-    to the next J1 zero; "outward": the reverse) and ``duration`` = difference
-    of squares, as mpmath numbers at ``dps`` digits (zeros from
-    mpmath.besseljzero).
+    A list of ``count`` records (dicts: "from", "to", "direction" ("toward"
+    equilibrium or "outward"), "z_from", "z_to", "duration" = difference of
+    squares in the unit v0/(4 g)), numbers as mpmath mpf at ``dps`` digits.
+    The zeros are pendulab's certified ones
+    (:func:`pendulab.analyses.bessel_zeros.bessel_zeros`); for the shortening
+    string and the margins see :mod:`pendulab.analyses.bessel_periods`.
     """
     import mpmath
-    if not isinstance(count, int) or count < 1:
-        raise InputError(f"count must be a positive integer, got {count!r}")
-    if not isinstance(dps, int) or dps < 5:
-        raise InputError(f"dps must be an integer >= 5, got {dps!r}")
+
+    from pendulab.analyses.bessel_zeros import bessel_zeros, check_count, check_dps
+    check_count(count, "count", 10_000)
+    check_dps(dps)
+    n = count // 2 + 3
+    j1, j2 = bessel_zeros(1, n, dps).strings, bessel_zeros(2, n, dps).strings
     out = []
     with mpmath.workdps(dps + 10):
-        # Interleaving (DLMF 10.21(i)): j_{1,k} < j_{2,k} < j_{1,k+1}.  Start at j_{2,1}.
         events = []
-        for k in range(1, count // 2 + 3):
-            events.append(("J2", k, mpmath.besseljzero(2, k)))
-            events.append(("J1", k + 1, mpmath.besseljzero(1, k + 1)))
+        for k in range(1, n):  # interlacing (proved in bessel_periods): j_2,k < j_1,k+1 < j_2,k+1
+            events.append(("J2", k, mpmath.mpf(j2[k - 1])))
+            events.append(("J1", k + 1, mpmath.mpf(j1[k])))
         for (f1, k1, z1), (f2, k2, z2) in zip(events, events[1:]):
             if len(out) == count:
                 break
-            out.append({
-                "from": f"{f1} zero {k1}", "to": f"{f2} zero {k2}",
-                "z_from": z1, "z_to": z2,
-                "direction": "toward" if f1 == "J2" else "outward",
-                "duration": z2**2 - z1**2,
-            })
+            out.append({"from": f"{f1} zero {k1}", "to": f"{f2} zero {k2}", "z_from": z1, "z_to": z2,
+                        "direction": "toward" if f1 == "J2" else "outward", "duration": z2 ** 2 - z1 ** 2})
     return out
 
 

@@ -1,49 +1,36 @@
 """Product "quarter_periods": the variable-length pendulum's quarter periods (002).
 
-Writes ``quarter_periods.json``: the zeros of J1 and J2 and the differences of
-their squares (time in units of v0/(4 g)) at the requested precision, the
-check of the source's claim that a swing toward equilibrium lasts longer than
-the outward swings around it, and the cross-product identity's residual.
+Writes ``quarter_periods.json``: the certified zeros of J1 and J2 used and the
+quarter periods in time order (differences of squares, unit |dL/dt|/(4 g)),
+for a growing or a shortening string as the canonical stage's rate says, with
+the margins and the verdict of the source's claim that a swing toward
+equilibrium lasts longer than the outward swings around it.  The same numbers
+appear in the "bessel" product, which also checks the identities.
 """
 
 from pendulab.io import canonical_json
 
 OPTIONS = {
-    "count": (int, 8, "how many quarter periods"),
-    "dps": (int, 30, "decimal digits of the zeros and durations"),
+    "count": (int, 8, "how many quarter periods (growing: of each kind; shortening: in all), 1 to 10000"),
+    "dps": (int, 30, "significant digits of the zeros and durations, 1 to 1000"),
 }
 SYSTEMS = ("variable-length",)
 
 
 def produce(ctx, options):
-    import mpmath
-    from pendulab.analyses.bessel import (check_cross_product_numerically, quarter_periods,
-                                          toward_swings_are_longer)
+    from pendulab.analyses.bessel_periods import quarter_periods
     from pendulab.errors import InputError
-    if not ctx.get("system").is_linear_length:
-        raise InputError("quarter_periods needs L(t) = L0 + v0*t")
-    dps = options["dps"]
-    periods = quarter_periods(options["count"], dps)
-    verdict = toward_swings_are_longer(periods)
-
-    def s(x):
-        return mpmath.nstr(x, dps, strip_zeros=False)
-    rows = [{"from": r["from"], "to": r["to"], "direction": r["direction"],
-             "z_from": s(r["z_from"]), "z_to": s(r["z_to"]), "duration": s(r["duration"])}
-            for r in periods]
-    zs = [mpmath.mpf(k) / 4 for k in range(1, 161)]
-    residual = check_cross_product_numerically(1, zs, dps=dps)
+    from pendulab.products.bessel import direction_from_stage, quarter_record
+    if not 1 <= options["count"] <= 10_000 or not 1 <= options["dps"] <= 1000:
+        raise InputError(f"quarter_periods product: count must be from 1 to 10000 and dps from 1 to "
+                         f"1000, got {options['count']} and {options['dps']}")
+    direction = direction_from_stage(ctx)
+    q = quarter_periods(options["count"], options["dps"], direction)
     doc = {
         "scene": ctx.scene.name,
-        "time_unit": "v0/(4*g)",
-        "quarter_periods": rows,
-        "toward_longer_than_neighbours": all(ok for _, ok in verdict),
-        "cross_product_identity": {
-            "identity": "besselj(1, z)*bessely(2, z) - besselj(2, z)*bessely(1, z) = -2/(pi*z)",
-            "z_range": "0.25..40",
-            "max_residual_below": mpmath.nstr(mpmath.mpf(10) ** (-dps + 2), 3),
-            "holds": bool(residual < mpmath.mpf(10) ** (-dps + 2)),
-        },
-        "dps": dps,
+        "dps": options["dps"],
+        "zeros_J1": q.zeros_j1,
+        "zeros_J2": q.zeros_j2,
+        **quarter_record(q),
     }
     return {"quarter_periods.json": canonical_json(doc)}

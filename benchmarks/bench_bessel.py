@@ -1,0 +1,107 @@
+"""Speed of the certified Bessel computations (issue 11), one command:
+
+    python benchmarks/bench_bessel.py          (add --quick to time the mpmath loop on 200 zeros only)
+
+Our timings are the best of a few runs (the least disturbed by other jobs on
+a shared machine); the mpmath loop runs once (it is long).
+
+1. 1000 zeros each of J1 and J2 at 50 digits, certified (interval Newton +
+   Sturm windows + exact rounding): pendulab.analyses.bessel_zeros.bessel_zeros.
+   Target: <= 0.6 s, and >= 15x faster than a plain mpmath.besseljzero loop
+   over the same 2000 zeros, timed in the same run (the mpmath digits are
+   compared with ours).
+2. 10^4 zeros of J1 at 30 digits.  Target: <= 10 s.
+3. The identity check (cross product, both derivative rules, z W = 2/pi) for
+   n = 0..20 on 200 log-spaced points in [1e-30, 1e6], 50 digits, arb engine
+   (certified balls), and the same check by the mpmath engine.  Target: <= 1 s.
+4. Scaling with dps (15, 50, 200, 1000): 100 zeros of J1, and the identity
+   check n = 0..2 on 20 points, arb engine; time and ratio to dps 15.
+"""
+
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
+
+import mpmath  # noqa: E402
+
+from pendulab.analyses.bessel_identities import check_identities, default_grid  # noqa: E402
+from pendulab.analyses.bessel_zeros import bessel_zeros  # noqa: E402
+
+
+def timed(fn, *args, repeat=1, **kw):
+    """(result, best time of ``repeat`` runs): the minimum is the least disturbed by other jobs."""
+    best = None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn(*args, **kw)
+        el = time.perf_counter() - t
+        best = el if best is None else min(best, el)
+    return out, best
+
+
+def mpmath_loop(count, dps):
+    with mpmath.workdps(dps):
+        return [[mpmath.nstr(mpmath.besseljzero(n, k), dps, strip_zeros=False) for k in range(1, count + 1)]
+                for n in (1, 2)]
+
+
+def main():
+    quick = "--quick" in sys.argv
+    bessel_zeros(1, 3, 50)  # derive the expansions once (cached), as a session would
+    (z1, z2), t_ours = timed(lambda: (bessel_zeros(1, 1000, 50), bessel_zeros(2, 1000, 50)), repeat=3)
+    print(f"1. 1000 zeros of J1 and of J2, 50 digits, certified: {t_ours:.3f} s, best of 3 (target 0.6 s)")
+    if quick:
+        n = 100
+        ref, t_mp = timed(mpmath_loop, n, 50)
+        t_mp_full = t_mp * 1000 / n
+        print(f"   mpmath.besseljzero loop, first {n} of each: {t_mp:.2f} s -> {t_mp_full:.1f} s "
+              "for 1000 (extrapolated)")
+    else:
+        n = 1000
+        ref, t_mp = timed(mpmath_loop, n, 50)
+        t_mp_full = t_mp
+        print(f"   mpmath.besseljzero loop, same 2000 zeros: {t_mp:.2f} s")
+    diff = [(i + 1, k + 1) for i, (r, o) in enumerate(zip(ref, (z1.strings, z2.strings)))
+            for k in range(n) if r[k] != o[k]]
+    print(f"   ratio mpmath/ours: {t_mp_full / t_ours:.1f}x (target >= 15x)")
+    wrong_mp = 0
+    with mpmath.workdps(70):  # who is right where the 50-digit strings differ?
+        for order, k in diff:
+            exact = mpmath.nstr(mpmath.besseljzero(order, k), 50, strip_zeros=False)
+            ours = (z1 if order == 1 else z2).strings[k - 1]
+            wrong_mp += exact == ours
+    print(f"   the strings differ for {len(diff)} of {2 * n} zeros; in {wrong_mp} of them mpmath's "
+          f"last digit is wrong (checked at 70 digits), in {len(diff) - wrong_mp} ours")
+
+    z, t = timed(bessel_zeros, 1, 10_000, 30, repeat=2)
+    print(f"2. 10^4 zeros of J1, 30 digits: {t:.2f} s (target 10 s); j_1,10000 = {z.strings[-1]}")
+
+    grid = default_grid(200, near_zeros=False)
+    rep, t_arb = timed(check_identities, 20, 50, grid, engines=("arb",), repeat=2)
+    print(f"3. identities n = 0..20, 200 points, 50 digits, arb engine: {t_arb:.2f} s (target 1 s); "
+          f"worst {mpmath.nstr(rep.worst[0], 3)} ({rep.worst[2]}, n = {rep.worst[3]}, z = {rep.worst[1]:.4g})")
+    rep_c, t_cross = timed(check_identities, 20, 50, grid, engines=("arb",), rules=("cross",), repeat=2)
+    print(f"   the cross product alone (no derivatives), arb: {t_cross:.2f} s; worst "
+          f"{mpmath.nstr(rep_c.worst[0], 3)}")
+    sub = grid[::10]
+    rep_mp, t_mp_id = timed(check_identities, 20, 50, sub, engines=("mpmath",))
+    t_mp_id_full = t_mp_id * len(grid) / len(sub)
+    print(f"   mpmath engine on {len(sub)} of the points: {t_mp_id:.2f} s -> {t_mp_id_full:.1f} s for 200 "
+          f"(extrapolated); ratio mpmath/arb {t_mp_id_full / t_arb:.1f}x")
+
+    print("4. scaling with dps (arb): 100 zeros of J1 | identities n = 0..2 on 20 points")
+    small = default_grid(20, near_zeros=False)
+    base = None
+    for dps in (15, 50, 200, 1000):
+        _, tz = timed(bessel_zeros, 1, 100, dps, repeat=3)
+        _, ti = timed(check_identities, 2, dps, small, engines=("arb",), repeat=3)
+        if base is None:
+            base = (tz, ti)
+        print(f"   dps {dps:5d}: zeros {tz:7.3f} s ({tz / base[0]:6.1f}x)   identities {ti:7.3f} s "
+              f"({ti / base[1]:6.1f}x)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,125 @@
+"""pendulab bessel zeros|quarter-periods|identities ... [--json]"""
+
+import argparse
+
+
+def _int(text):
+    """An integer argument; anything else (1.5, "x") is reported by the command's check."""
+    try:
+        return int(text)
+    except ValueError:
+        return text
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "bessel", help="certified Bessel zeros, 002's quarter periods and identity checks",
+        description="High-precision, certified Bessel computations for the variable-length "
+                    "pendulum (002_19b336b29bb1f03b.txt).  Every printed digit is proved "
+                    "(python-flint ball arithmetic).",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    what = p.add_subparsers(dest="what", metavar="WHAT")
+    what.required = True
+    z = what.add_parser("zeros", help="zeros j_n,1 .. j_n,K of J_n",
+                        description="The first K positive zeros of J_n for a real order n >= 0 "
+                                    "(up to 300), each certified by an interval Newton step and its "
+                                    "index by Sturm windows.",
+                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    z.add_argument("--order", required=True, help="n, a real number >= 0 (1, 2.5, 1/3)")
+    z.add_argument("--count", type=_int, required=True, help="K, 1 to 100000")
+    z.add_argument("--dps", type=_int, default=30, help="significant digits, 1 to 10000")
+    z.add_argument("--json", action="store_true", help="print JSON ({\"zeros\": [...]})")
+    z.set_defaults(func=run_zeros)
+    q = what.add_parser("quarter-periods", help="002's quarter periods (differences of squares of zeros)",
+                        description="inward[k] = j_1,k+2^2 - j_2,k+1^2 and outward[k] = j_2,k+2^2 - "
+                                    "j_1,k+2^2, k = 0..K-1 (unit v0/(4g)), with the margins of the "
+                                    "source's claim; --shortening for L = L0 - v0 t.",
+                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    q.add_argument("--count", type=_int, required=True, help="K, 1 to 10000")
+    q.add_argument("--dps", type=_int, default=30, help="significant digits, 1 to 1000")
+    q.add_argument("--shortening", action="store_true",
+                   help="a shortening string: z decreases from j_2,m to 0 (K quarter periods in all)")
+    q.add_argument("--json", action="store_true", help="print JSON")
+    q.set_defaults(func=run_quarter)
+    i = what.add_parser("identities", help="check 002's Bessel identities at any precision",
+                        description="Worst relative error of J_n Y_n+1 - J_n+1 Y_n = -2/(pi z), "
+                                    "d/dz[z^-n C_n] = -z^-n C_n+1 (C = J, Y) and z W = 2/pi for "
+                                    "n = 0..N over log-spaced z in [1e-30, 1e6] and points next to "
+                                    "zeros, by arb balls and mpmath (which must agree).",
+                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    i.add_argument("--nmax", type=_int, required=True, help="N, 0 to 100")
+    i.add_argument("--dps", type=_int, default=30, help="digits, 1 to 10000")
+    i.add_argument("--points", type=_int, default=60, help="log-spaced points, 2 to 10000")
+    i.add_argument("--z", type=float, action="append", default=None,
+                   help="check at this z instead of the grid (repeatable; z > 0)")
+    i.add_argument("--engine", choices=("both", "arb", "mpmath"), default="both",
+                   help="which engines to run")
+    i.add_argument("--cross-only", action="store_true",
+                   help="check only the cross product (no derivatives; about 3x faster)")
+    i.add_argument("--json", action="store_true", help="print JSON")
+    i.set_defaults(func=run_identities)
+    return p
+
+
+def run_zeros(args):
+    from pendulab.analyses.bessel_zeros import bessel_zeros
+    from pendulab.io import canonical_json
+    res = bessel_zeros(args.order, args.count, args.dps)
+    if args.json:
+        print(canonical_json({"order": str(res.nu), "dps": res.dps, "zeros": res.strings,
+                              "certified": True, "phase_checked": res.phase_checked}), end="")
+        return 0
+    print(f"zeros of J_{res.nu}, {res.dps} significant digits, every digit certified")
+    for k, s in enumerate(res.strings, start=1):
+        print(f"j_{res.nu},{k} = {s}")
+    return 0
+
+
+def run_quarter(args):
+    from pendulab.analyses.bessel_periods import GROWING, SHORTENING, quarter_periods
+    from pendulab.io import canonical_json
+    from pendulab.products.bessel import quarter_record
+    q = quarter_periods(args.count, args.dps, SHORTENING if args.shortening else GROWING)
+    rec = quarter_record(q)
+    if args.json:
+        print(canonical_json(rec), end="")
+        return 0
+    print(f"quarter periods, {q.direction} string from {rec['start']}, unit {rec['time_unit']}")
+    for k in range(max(len(q.inward), len(q.outward))):
+        a = q.inward[k] if k < len(q.inward) else "-"
+        b = q.outward[k] if k < len(q.outward) else "-"
+        print(f"{k}: inward {a}   outward {b}")
+    print(f"claim ({rec['claim']}): {'holds for every k shown' if q.claim_holds else 'does not hold: an outward swing outlasts an inward one'}")
+    if q.time_to_zero_length is not None:
+        print(f"L reaches 0 at t = {q.time_to_zero_length} (z = 0)")
+    return 0
+
+
+def run_identities(args):
+    import mpmath
+
+    from pendulab.analyses.bessel_identities import ENGINES, check_identities, default_grid
+    from pendulab.io import canonical_json
+    points = args.z if args.z else default_grid(args.points)
+    engines = ENGINES if args.engine == "both" else (args.engine,)
+    from pendulab.analyses.bessel_identities import RULES
+    rep = check_identities(args.nmax, args.dps, points, engines, ("cross",) if args.cross_only else RULES)
+    e = lambda x: mpmath.nstr(x, 3)  # noqa: E731
+    rec = {
+        "nmax": rep.nmax, "dps": rep.dps, "points": len(rep.points), "engines": list(rep.engines),
+        "worst_relative_error": e(rep.worst[0]), "worst_z": rep.worst[1],
+        "worst_identity": rep.worst[2], "worst_n": rep.worst[3], "worst_engine": rep.worst[4],
+        "in_units_of_10^-dps": e(rep.ratio),
+        "by_identity": {f"{eng}/{rule}": {"error": e(v[0]), "z": v[1], "n": v[2]}
+                        for (eng, rule), v in sorted(rep.by_rule.items())},
+        "arb_balls_contain_exact_values": rep.arb_certified, "engine_agreements": rep.agreements,
+    }
+    if args.json:
+        print(canonical_json(rec), end="")
+        return 0
+    print(f"identities n = 0..{rep.nmax} at {rep.dps} digits, {len(rep.points)} points, "
+          f"engines {', '.join(rep.engines)}")
+    for key, v in rec["by_identity"].items():
+        print(f"{key:24s} worst {v['error']} at z = {v['z']!r}, n = {v['n']}")
+    print(f"worst relative error {rec['worst_relative_error']} = {rec['in_units_of_10^-dps']} x 10^-{rep.dps}")
+    return 0
