@@ -279,3 +279,136 @@ def test_console_script_runs():
     res = subprocess.run([sys.executable, "-m", "pendulab", "derive", "kapitza", "--json"],
                          capture_output=True, text=True)
     assert res.returncode == 0 and json.loads(res.stdout)["canonical"]["kind"] == "mathieu"
+
+
+# -- right errors, early (issue 10 item 4) -----------------------------------------
+
+def _no_work(monkeypatch):
+    """Make reading or computing a scene fail the test: the check must come first."""
+    import pendulab.build as pb
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError("a scene was read or computed before --out was checked")
+    monkeypatch.setattr(pb, "load_scene", forbidden)
+    monkeypatch.setattr(pipeline, "run_products", forbidden)
+
+
+@pytest.mark.parametrize("out, message", [
+    ("README.md", "--out README.md exists and is not a directory"),
+    ("README.md/sub", "--out README.md/sub: README.md is not a directory, so it cannot be created"),
+    ("", "--out is empty: name a directory (the default is 'generated')"),
+    ("   ", "--out is empty: name a directory (the default is 'generated')"),
+])
+def test_bad_out_is_refused_before_any_work(tmp_path, monkeypatch, capsys, out, message):
+    (tmp_path / "README.md").write_text("# mine\n")
+    monkeypatch.chdir(tmp_path)
+    _no_work(monkeypatch)
+    before = sorted(os.listdir(tmp_path))
+    assert main(["build", str(SCENES), "--out", out]) == 2
+    assert capsys.readouterr().err == f"pendulab: error: {message}\n"
+    assert sorted(os.listdir(tmp_path)) == before  # nothing written, not even into the cwd
+    assert (tmp_path / "README.md").read_text() == "# mine\n"
+
+
+def test_bad_out_through_the_api_too(tmp_path, monkeypatch):
+    from pendulab.errors import InputError
+    _no_work(monkeypatch)
+    with pytest.raises(InputError, match="output directory is empty"):
+        build(SCENES, "")
+    (tmp_path / "f").write_text("")
+    with pytest.raises(InputError, match="exists and is not a directory"):
+        build(SCENES, tmp_path / "f")
+
+
+def test_a_new_nested_out_is_created(tmp_path):
+    path = _write(tmp_path, GOOD)
+    assert build(path, tmp_path / "a" / "b", log=lambda m: None) == {"scene": "built"}
+    assert (tmp_path / "a" / "b" / "scene" / "manifest.json").exists()
+
+
+def test_manifest_records_the_scene_file_without_machine_paths(tmp_path, monkeypatch):
+    """As given relative, as given absolute, from another working directory: the same record."""
+    scenes = tmp_path / "lessons"
+    scenes.mkdir()
+    _write(scenes, GOOD, "pivot.toml")
+    records = set()
+    for cwd, arg in ((tmp_path, "lessons/pivot.toml"), (scenes, "pivot.toml"),
+                     (ROOT, str(scenes / "pivot.toml"))):
+        monkeypatch.chdir(cwd)
+        build(arg, tmp_path / "out", force=True, log=lambda m: None)
+        text = (tmp_path / "out" / "pivot" / "manifest.json").read_text()
+        records.add(json.loads(text)["source"])
+        assert str(tmp_path) not in text
+    assert records == {"lessons/pivot.toml"}
+    for name in ("kapitza-point", "kapitza-rod", "variable-length"):
+        manifest = json.loads((ROOT / "generated" / name / "manifest.json").read_text())
+        assert manifest["source"] == f"derivations/{name}.toml"
+
+
+def test_a_scene_of_the_same_name_from_another_file_is_refused_unless_replace(tmp_path, capsys):
+    one, two = tmp_path / "one", tmp_path / "two"
+    one.mkdir()
+    two.mkdir()
+    (one / "a.toml").write_text('name = "pivot"\n' + GOOD)
+    (two / "b.toml").write_text('name = "pivot"\n' + GOOD.replace("point", "rod"))
+    out = tmp_path / "out"
+    assert main(["build", str(one / "a.toml"), "--out", str(out)]) == 0
+    before = {p.name: p.read_bytes() for p in (out / "pivot").iterdir()}
+    assert main(["build", str(two / "b.toml"), "--out", str(out), "--force"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == [f"pendulab: error: {two / 'b.toml'}: name: {out / 'pivot'} holds the outputs of "
+                   "the scene file one/a.toml, not of two/b.toml; rename the scene or give "
+                   "--replace to replace them"]
+    assert {p.name: p.read_bytes() for p in (out / "pivot").iterdir()} == before
+    assert main(["build", str(two / "b.toml"), "--out", str(out), "--replace"]) == 0
+    manifest = json.loads((out / "pivot" / "manifest.json").read_text())
+    assert manifest["source"] == "two/b.toml"
+    assert {p.name: p.read_bytes() for p in (out / "pivot").iterdir()} != before
+    # the same content from another file is not "up to date": the record must change
+    (one / "a.toml").write_text((two / "b.toml").read_text())
+    assert build(one / "a.toml", out, replace=True, log=lambda m: None) == {"pivot": "built"}
+    assert json.loads((out / "pivot" / "manifest.json").read_text())["source"] == "one/a.toml"
+
+
+def test_a_directory_not_written_by_build_is_refused(tmp_path):
+    out = tmp_path / "out"
+    (out / "scene").mkdir(parents=True)
+    (out / "scene" / "notes.txt").write_text("my notes\n")
+    path = _write(tmp_path, GOOD)
+    with pytest.raises(SceneError, match="holds files that pendulab build did not write"):
+        build(path, out, log=lambda m: None)
+    assert (out / "scene" / "notes.txt").read_text() == "my notes\n"
+    (out / "scene" / "notes.txt").unlink()  # an empty directory is taken
+    assert build(path, out, log=lambda m: None) == {"scene": "built"}
+
+
+def test_the_input_hash_covers_pendulabs_version(tmp_path, monkeypatch):
+    """Outputs made by another version are rebuilt, not kept as up to date."""
+    import pendulab
+    import pendulab.build as pb
+    path = _write(tmp_path, GOOD)
+    out = tmp_path / "out"
+    assert build(path, out, log=lambda m: None) == {"scene": "built"}
+    scene = load_scene(path)
+    digest = pb.input_hash(scene)
+    monkeypatch.setattr(pb, "__version__", "99.0.0")
+    monkeypatch.setattr(pendulab, "__version__", "99.0.0")
+    assert pb.input_hash(scene) != digest
+    assert build(path, out, log=lambda m: None) == {"scene": "built"}
+    manifest = json.loads((out / "scene" / "manifest.json").read_text())
+    assert manifest["generator"] == "pendulab 99.0.0" and manifest["input_sha256"] != digest
+    assert build(path, out, log=lambda m: None) == {"scene": "up to date"}
+
+
+def test_two_builds_at_once_both_succeed(tmp_path):
+    """Two `pendulab build --force` processes into one root at the same time: exit 0 both,
+    the outputs complete, no leftover."""
+    path = _write(tmp_path, GOOD)
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "pendulab", "build", str(path), "--force", "--out", str(out)]
+    procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+             for _ in range(2)]
+    results = [p.communicate() + (p.returncode,) for p in procs]
+    assert [r[2] for r in results] == [0, 0], results
+    assert sorted(os.listdir(out)) == [".pendulab.lock", "scene"]
+    assert build(path, out, log=lambda m: None) == {"scene": "up to date"}
