@@ -412,3 +412,61 @@ def test_two_builds_at_once_both_succeed(tmp_path):
     assert [r[2] for r in results] == [0, 0], results
     assert sorted(os.listdir(out)) == [".pendulab.lock", "scene"]
     assert build(path, out, log=lambda m: None) == {"scene": "up to date"}
+
+
+# -- each derivation once per build (issue 10 item 6) --------------------------------
+
+def test_the_body_does_not_enter_the_driven_pivots_equations():
+    """Why one derivation serves every body (pendulab.equations.derive): derived afresh for
+    the rod, the point mass and the generic body I, the records agree but for the system."""
+    import dataclasses
+    from pendulab import equations
+    from pendulab.systems import DrivenPivot
+    records = [equations._derive_driven_pivot(DrivenPivot(body=b)) for b in ("rod", "point", "explicit")]
+    fields = [f.name for f in dataclasses.fields(records[0]) if f.name != "system"]
+    for other in records[1:]:
+        for name in fields:
+            assert getattr(other, name) == getattr(records[0], name), name
+    shared = [equations.derive(DrivenPivot(body=b)) for b in ("rod", "point")]
+    assert [r.system.body for r in shared] == ["rod", "point"]
+
+
+def test_a_build_derives_each_equation_once(tmp_path, monkeypatch):
+    """Two kapitza scenes (point, rod) with equations and the stability comparison, which
+    needs eqs. 12 and 19 (phelps_hunter, averaging): the driven pivot's Euler-Lagrange
+    equations are derived once, its Mathieu form is formed twice at most (the stage once,
+    phelps_hunter once), and no closed form is derived again per row of the table."""
+    from pendulab import canonical, equations
+    from pendulab.analyses import averaging, phelps_hunter, stability
+    for f in (phelps_hunter._mathieu_parameters, phelps_hunter._small_parameter_exponent,
+              phelps_hunter.interval_eq12, averaging._lagrangian_torques, averaging._averaged,
+              stability._formula, stability._series_theta1):
+        f.cache_clear()
+    monkeypatch.setattr(equations, "_DERIVED", {})
+    monkeypatch.setattr(pipeline, "_CANONICAL", {})
+    counts = {"derive": 0, "periodic_form": 0, "interval_eq12": 0, "series": 0}
+
+    def counting(name, real):
+        def wrapper(*args, **kwargs):
+            counts[name] += 1
+            return real(*args, **kwargs)
+        return wrapper
+    monkeypatch.setattr(equations, "_derive_driven_pivot",
+                        counting("derive", equations._derive_driven_pivot))
+    monkeypatch.setattr(canonical, "periodic_form", counting("periodic_form", canonical.periodic_form))
+    monkeypatch.setattr(phelps_hunter, "_small_parameter_exponent",
+                        counting("interval_eq12", phelps_hunter._small_parameter_exponent))
+    import pendulab.analyses.series as series
+    monkeypatch.setattr(series, "stability_interval_series",
+                        counting("series", series.stability_interval_series))
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    table = ('[products.stability]\npoints = 5\nmax_ratio = "1/2"\n'
+             'methods = ["eq12", "eq19", "eq19-corrected", "eq28"]\nfigure = false\n')
+    _write(scenes, 'system = "kapitza"\n[parameters]\nbody = "point"\n[products.equations]\n' + table,
+           "point.toml")
+    _write(scenes, 'system = "kapitza"\n[parameters]\nbody = "rod"\n[products.equations]\n' + table,
+           "rod.toml")
+    assert build(scenes, tmp_path / "out", log=lambda m: None) == {"point": "built", "rod": "built"}
+    # eq28 rows: the same 5 values of omega0/omega for both bodies, computed once each
+    assert counts == {"derive": 1, "periodic_form": 2, "interval_eq12": 1, "series": 5}
