@@ -470,3 +470,14 @@ def test_a_build_derives_each_equation_once(tmp_path, monkeypatch):
     assert build(scenes, tmp_path / "out", log=lambda m: None) == {"point": "built", "rod": "built"}
     # eq28 rows: the same 5 values of omega0/omega for both bodies, computed once each
     assert counts == {"derive": 1, "periodic_form": 2, "interval_eq12": 1, "series": 5}
+
+
+def test_shared_series_limits_are_bit_for_bit_the_direct_ones():
+    """The comparison's series rows, shared across bodies, equal the direct
+    stability_interval_series(order, ratio, inertia_ratio) exactly."""
+    from pendulab.analyses import series, stability
+    for order in (2, 6):
+        for ratio in (0.0, 0.15, 0.35):
+            for r in (1.0, 4 / 3, 1.7):
+                assert stability.limits(ratio, r, f"series:{order}") == \
+                    series.stability_interval_series(order, ratio, r)
