@@ -361,17 +361,21 @@ def test_build_cleans_and_restores_leftovers_of_older_and_killed_builds(tmp_path
     scene.write_text(SCENE)
     out = tmp_path / "out"
     build(scene, out, log=lambda m: None)
-    for stray in (".scene.tmp-k2j_x9qa", ".other.tmp-0123456789abcdef", ".scene.old-4242"):
+    manifest = (out / "scene" / "manifest.json").read_text()
+    for stray in (".scene.tmp-k2j_x9qa", ".scene.old-4242"):  # 0.2.0's names: with a manifest
         (out / stray / "sub").mkdir(parents=True)
         (out / stray / "sub" / "f.txt").write_text("stranded\n")
+        (out / stray / "manifest.json").write_text(manifest)
+    (out / ".other.tmp-0123456789abcdef" / "sub").mkdir(parents=True)  # ours: killed mid-write
     (out / "gone").mkdir()
     (out / "gone" / "keep.txt").write_text("the old set\n")
     os.rename(out / "gone", out / ".gone.old-00ff00ff00ff00ff")
-    (out / ".not-ours").mkdir()  # a hidden directory of another name pattern is left alone
+    (out / ".not-ours").mkdir()  # hidden directories of other patterns are left alone,
+    (out / ".vim.old-1").mkdir()  # and so is one with 0.2.0's pattern but no manifest
     messages = []
     assert build(scene, out, log=messages.append) == {"scene": "up to date"}
     assert any("removed 4 leftover" in m for m in messages)
-    assert sorted(os.listdir(out)) == [".not-ours", pio.LOCK_NAME, "gone", "scene"]
+    assert sorted(os.listdir(out)) == [".not-ours", pio.LOCK_NAME, ".vim.old-1", "gone", "scene"]
     assert (out / "gone" / "keep.txt").read_text() == "the old set\n"
 
 

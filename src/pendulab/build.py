@@ -4,7 +4,8 @@ The input hash covers the validated scene table and pendulab's version.  When
 generated/<scene>/manifest.json records the same hash and the same scene file
 (``source``, see :func:`source_name`) and every file it lists is present with
 the recorded SHA-256, the scene is skipped; ``force=True`` rebuilds.  A code
-change that alters products without a version bump needs ``--force`` (CI rebuilds everything with force and compares byte for byte).
+change that alters products without a version bump needs ``--force`` (CI
+rebuilds everything with force and compares byte for byte).
 """
 
 import hashlib

@@ -39,10 +39,14 @@ from pathlib import Path
 #: Name of the lock file in an output root.
 LOCK_NAME = ".pendulab.lock"
 #: Hidden siblings made by a publish: ".<name>.tmp-<token>" (new set, or the old
-#: one after the exchange) and ".<name>.old-<token>" (old set, fallback only).
-#: The token pattern also matches the names of pendulab 0.2.0 (mkdtemp's eight
-#: characters, ".old-<pid>"), so their leftovers are cleaned as well.
-_LEFTOVER = re.compile(r"\.(?P<name>[A-Za-z0-9][A-Za-z0-9_.-]*?)\.(?P<kind>tmp|old)-[A-Za-z0-9_]{1,32}\Z")
+#: one after the exchange) and ".<name>.old-<token>" (old set, fallback only),
+#: with a token of 16 hex digits.  Other tokens are the names of pendulab 0.2.0
+#: (mkdtemp's eight characters, ".old-<pid>"); such a directory counts as a
+#: leftover only when it holds a manifest.json written by pendulab, since a
+#: name like ".vim.old-1" may be a user's own.
+_LEFTOVER = re.compile(r"\.(?P<name>[A-Za-z0-9][A-Za-z0-9_.-]*?)\.(?P<kind>tmp|old)-"
+                       r"(?P<token>[A-Za-z0-9_]{1,32})\Z")
+_TOKEN = re.compile(r"[0-9a-f]{16}\Z")
 #: errno values by which an exchange says "not supported here": use the fallback.
 _UNSUPPORTED = {errno.EINVAL, errno.ENOSYS, errno.ENOTSUP, errno.EOPNOTSUPP}
 
@@ -224,9 +228,19 @@ def leftovers(root, name=None):
         if not m or (name is not None and m["name"] != name):
             continue
         path = root / entry
-        if path.is_dir() and not path.is_symlink():
+        if not path.is_dir() or path.is_symlink():
+            continue
+        if _TOKEN.match(m["token"]) or _written_by_pendulab(path):
             found.append((path, m["name"], m["kind"]))
     return found
+
+
+def _written_by_pendulab(directory):
+    try:
+        data = json.loads((directory / "manifest.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    return isinstance(data, dict) and str(data.get("generator", "")).startswith("pendulab ")
 
 
 def clean_leftovers(root, name=None):
