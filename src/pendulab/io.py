@@ -137,20 +137,18 @@ def _remove_tree(path):
 
 @functools.lru_cache(maxsize=1)
 def _libc():
+    """ctypes and the C library (the process's own symbols: no library search)."""
     import ctypes
-    import ctypes.util
-    return ctypes, ctypes.CDLL(ctypes.util.find_library("c") or None, use_errno=True)
+    return ctypes, ctypes.CDLL(None, use_errno=True)
 
 
+@functools.lru_cache(maxsize=1)
 def _has_syncfs():
+    """Linux: the new files are made durable by one syncfs before the swap, not one fsync each."""
     try:
         return sys.platform.startswith("linux") and hasattr(_libc()[1], "syncfs")
     except OSError:  # pragma: no cover
         return False
-
-
-#: Linux: the new files are made durable by one syncfs before the swap, not one fsync each.
-_SYNCFS = _has_syncfs()
 
 
 def _rename_exchange(a, b):
@@ -294,7 +292,7 @@ def write_tree(directory, files, have_lock=False):
     tmp = directory.with_name(f".{directory.name}.tmp-{token}")
     os.mkdir(tmp, 0o777)
     try:
-        sync_each = not _SYNCFS
+        sync_each = not _has_syncfs()
         for name, text in sorted(files.items()):
             target = tmp / name
             if target.parent != tmp:
