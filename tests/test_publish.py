@@ -462,3 +462,21 @@ def test_a_real_build_killed_while_publishing(tmp_path):
     assert seen == {"before", "after"}
     assert _cli_build(-1, "old", scene, out).returncode == 0
     assert _labels(out / "scene") == "old" and sorted(os.listdir(out)) == [pio.LOCK_NAME, "scene"]
+
+
+def test_without_syncfs_every_file_and_the_directory_are_fsynced(tmp_path, monkeypatch):
+    """Where syncfs is missing (not Linux), each new file and the new directory get an
+    fsync before the swap; a fault at any of them keeps the old set."""
+    monkeypatch.setattr(pio, "_has_syncfs", lambda: False)
+    log = _call_log(tmp_path, monkeypatch)
+    before_swap = log[:log.index("exchange")]
+    assert before_swap.count("fsync") == len(NEW) + 1
+    for k, name in enumerate(before_swap):
+        if name != "fsync":
+            continue
+        root, directory = _fresh(tmp_path / f"k{k}")
+        with monkeypatch.context() as m:
+            _install(m, FaultyOS(k, _raise_eio))
+            with pytest.raises(OSError, match="injected"):
+                pio.write_tree(directory, NEW)
+        assert _which_set(directory) == "old" and _clean_listing(root)
