@@ -185,7 +185,8 @@ def test_failed_build_leaves_previous_outputs_intact(tmp_path, monkeypatch):
         build(path, out, force=True, log=lambda m: None)
     after = {p.name: p.read_bytes() for p in (out / "scene").iterdir()}
     assert before == after
-    assert sorted(os.listdir(out)) == ["scene"]  # no temporary directory left behind
+    # no temporary directory left behind (the lock file stays: see pendulab.io.publish_lock)
+    assert sorted(os.listdir(out)) == [".pendulab.lock", "scene"]
 
 
 def test_error_in_a_product_names_file_and_product_and_writes_no_scene(tmp_path, monkeypatch, capsys):
@@ -218,7 +219,7 @@ def test_unwritable_output_is_a_one_line_error(tmp_path, capsys):
     blocker.write_text("a file where the output directory should go\n")
     assert main(["build", str(path), "--out", str(blocker)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("pendulab: error: cannot write")
+    assert len(err) == 1 and err[0] == f"pendulab: error: --out {blocker} exists and is not a directory"
     assert blocker.read_text().startswith("a file")
 
 
@@ -228,7 +229,7 @@ def test_generated_is_reproducible_byte_for_byte(tmp_path):
     build(SCENES, out, force=True, log=lambda m: None)
     committed = ROOT / "generated"
     names = sorted(p.name for p in committed.iterdir() if not p.name.startswith("."))
-    assert names == sorted(p.name for p in out.iterdir())
+    assert names == sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
     for name in names:
         cmp = filecmp.dircmp(committed / name, out / name)
         assert not cmp.left_only and not cmp.right_only, name
@@ -278,3 +279,205 @@ def test_console_script_runs():
     res = subprocess.run([sys.executable, "-m", "pendulab", "derive", "kapitza", "--json"],
                          capture_output=True, text=True)
     assert res.returncode == 0 and json.loads(res.stdout)["canonical"]["kind"] == "mathieu"
+
+
+# -- right errors, early (issue 10 item 4) -----------------------------------------
+
+def _no_work(monkeypatch):
+    """Make reading or computing a scene fail the test: the check must come first."""
+    import pendulab.build as pb
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError("a scene was read or computed before --out was checked")
+    monkeypatch.setattr(pb, "load_scene", forbidden)
+    monkeypatch.setattr(pipeline, "run_products", forbidden)
+
+
+@pytest.mark.parametrize("out, message", [
+    ("README.md", "--out README.md exists and is not a directory"),
+    ("README.md/sub", "--out README.md/sub: README.md is not a directory, so it cannot be created"),
+    ("", "--out is empty: name a directory (the default is 'generated')"),
+    ("   ", "--out is empty: name a directory (the default is 'generated')"),
+])
+def test_bad_out_is_refused_before_any_work(tmp_path, monkeypatch, capsys, out, message):
+    (tmp_path / "README.md").write_text("# mine\n")
+    monkeypatch.chdir(tmp_path)
+    _no_work(monkeypatch)
+    before = sorted(os.listdir(tmp_path))
+    assert main(["build", str(SCENES), "--out", out]) == 2
+    assert capsys.readouterr().err == f"pendulab: error: {message}\n"
+    assert sorted(os.listdir(tmp_path)) == before  # nothing written, not even into the cwd
+    assert (tmp_path / "README.md").read_text() == "# mine\n"
+
+
+def test_bad_out_through_the_api_too(tmp_path, monkeypatch):
+    from pendulab.errors import InputError
+    _no_work(monkeypatch)
+    with pytest.raises(InputError, match="output directory is empty"):
+        build(SCENES, "")
+    (tmp_path / "f").write_text("")
+    with pytest.raises(InputError, match="exists and is not a directory"):
+        build(SCENES, tmp_path / "f")
+
+
+def test_a_new_nested_out_is_created(tmp_path):
+    path = _write(tmp_path, GOOD)
+    assert build(path, tmp_path / "a" / "b", log=lambda m: None) == {"scene": "built"}
+    assert (tmp_path / "a" / "b" / "scene" / "manifest.json").exists()
+
+
+def test_manifest_records_the_scene_file_without_machine_paths(tmp_path, monkeypatch):
+    """As given relative, as given absolute, from another working directory: the same record."""
+    scenes = tmp_path / "lessons"
+    scenes.mkdir()
+    _write(scenes, GOOD, "pivot.toml")
+    records = set()
+    for cwd, arg in ((tmp_path, "lessons/pivot.toml"), (scenes, "pivot.toml"),
+                     (ROOT, str(scenes / "pivot.toml"))):
+        monkeypatch.chdir(cwd)
+        build(arg, tmp_path / "out", force=True, log=lambda m: None)
+        text = (tmp_path / "out" / "pivot" / "manifest.json").read_text()
+        records.add(json.loads(text)["source"])
+        assert str(tmp_path) not in text
+    assert records == {"lessons/pivot.toml"}
+    for name in ("kapitza-point", "kapitza-rod", "variable-length"):
+        manifest = json.loads((ROOT / "generated" / name / "manifest.json").read_text())
+        assert manifest["source"] == f"derivations/{name}.toml"
+
+
+def test_a_scene_of_the_same_name_from_another_file_is_refused_unless_replace(tmp_path, capsys):
+    one, two = tmp_path / "one", tmp_path / "two"
+    one.mkdir()
+    two.mkdir()
+    (one / "a.toml").write_text('name = "pivot"\n' + GOOD)
+    (two / "b.toml").write_text('name = "pivot"\n' + GOOD.replace("point", "rod"))
+    out = tmp_path / "out"
+    assert main(["build", str(one / "a.toml"), "--out", str(out)]) == 0
+    before = {p.name: p.read_bytes() for p in (out / "pivot").iterdir()}
+    assert main(["build", str(two / "b.toml"), "--out", str(out), "--force"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == [f"pendulab: error: {two / 'b.toml'}: name: {out / 'pivot'} holds the outputs of "
+                   "the scene file one/a.toml, not of two/b.toml; rename the scene or give "
+                   "--replace to replace them"]
+    assert {p.name: p.read_bytes() for p in (out / "pivot").iterdir()} == before
+    assert main(["build", str(two / "b.toml"), "--out", str(out), "--replace"]) == 0
+    manifest = json.loads((out / "pivot" / "manifest.json").read_text())
+    assert manifest["source"] == "two/b.toml"
+    assert {p.name: p.read_bytes() for p in (out / "pivot").iterdir()} != before
+    # the same content from another file is not "up to date": the record must change
+    (one / "a.toml").write_text((two / "b.toml").read_text())
+    assert build(one / "a.toml", out, replace=True, log=lambda m: None) == {"pivot": "built"}
+    assert json.loads((out / "pivot" / "manifest.json").read_text())["source"] == "one/a.toml"
+
+
+def test_a_directory_not_written_by_build_is_refused(tmp_path):
+    out = tmp_path / "out"
+    (out / "scene").mkdir(parents=True)
+    (out / "scene" / "notes.txt").write_text("my notes\n")
+    path = _write(tmp_path, GOOD)
+    with pytest.raises(SceneError, match="holds files that pendulab build did not write"):
+        build(path, out, log=lambda m: None)
+    assert (out / "scene" / "notes.txt").read_text() == "my notes\n"
+    (out / "scene" / "notes.txt").unlink()  # an empty directory is taken
+    assert build(path, out, log=lambda m: None) == {"scene": "built"}
+
+
+def test_the_input_hash_covers_pendulabs_version(tmp_path, monkeypatch):
+    """Outputs made by another version are rebuilt, not kept as up to date."""
+    import pendulab
+    import pendulab.build as pb
+    path = _write(tmp_path, GOOD)
+    out = tmp_path / "out"
+    assert build(path, out, log=lambda m: None) == {"scene": "built"}
+    scene = load_scene(path)
+    digest = pb.input_hash(scene)
+    monkeypatch.setattr(pb, "__version__", "99.0.0")
+    monkeypatch.setattr(pendulab, "__version__", "99.0.0")
+    assert pb.input_hash(scene) != digest
+    assert build(path, out, log=lambda m: None) == {"scene": "built"}
+    manifest = json.loads((out / "scene" / "manifest.json").read_text())
+    assert manifest["generator"] == "pendulab 99.0.0" and manifest["input_sha256"] != digest
+    assert build(path, out, log=lambda m: None) == {"scene": "up to date"}
+
+
+def test_two_builds_at_once_both_succeed(tmp_path):
+    """Two `pendulab build --force` processes into one root at the same time: exit 0 both,
+    the outputs complete, no leftover."""
+    path = _write(tmp_path, GOOD)
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "pendulab", "build", str(path), "--force", "--out", str(out)]
+    procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+             for _ in range(2)]
+    results = [p.communicate() + (p.returncode,) for p in procs]
+    assert [r[2] for r in results] == [0, 0], results
+    assert sorted(os.listdir(out)) == [".pendulab.lock", "scene"]
+    assert build(path, out, log=lambda m: None) == {"scene": "up to date"}
+
+
+# -- each derivation once per build (issue 10 item 6) --------------------------------
+
+def test_the_body_does_not_enter_the_driven_pivots_equations():
+    """Why one derivation serves every body (pendulab.equations.derive): derived afresh for
+    the rod, the point mass and the generic body I, the records agree but for the system."""
+    import dataclasses
+    from pendulab import equations
+    from pendulab.systems import DrivenPivot
+    records = [equations._derive_driven_pivot(DrivenPivot(body=b)) for b in ("rod", "point", "explicit")]
+    fields = [f.name for f in dataclasses.fields(records[0]) if f.name != "system"]
+    for other in records[1:]:
+        for name in fields:
+            assert getattr(other, name) == getattr(records[0], name), name
+    shared = [equations.derive(DrivenPivot(body=b)) for b in ("rod", "point")]
+    assert [r.system.body for r in shared] == ["rod", "point"]
+
+
+def test_a_build_derives_each_equation_once(tmp_path, monkeypatch):
+    """Two kapitza scenes (point, rod) with equations and the stability comparison, which
+    needs eqs. 12 and 19 (phelps_hunter, averaging): the driven pivot's Euler-Lagrange
+    equations are derived once, its Mathieu form is formed twice at most (the stage once,
+    phelps_hunter once), and no closed form is derived again per row of the table."""
+    from pendulab import canonical, equations
+    from pendulab.analyses import averaging, phelps_hunter, stability
+    for f in (phelps_hunter._mathieu_parameters, phelps_hunter._small_parameter_exponent,
+              phelps_hunter.interval_eq12, averaging._lagrangian_torques, averaging._averaged,
+              stability._formula, stability._series_theta1):
+        f.cache_clear()
+    monkeypatch.setattr(equations, "_DERIVED", {})
+    monkeypatch.setattr(pipeline, "_CANONICAL", {})
+    counts = {"derive": 0, "periodic_form": 0, "interval_eq12": 0, "series": 0}
+
+    def counting(name, real):
+        def wrapper(*args, **kwargs):
+            counts[name] += 1
+            return real(*args, **kwargs)
+        return wrapper
+    monkeypatch.setattr(equations, "_derive_driven_pivot",
+                        counting("derive", equations._derive_driven_pivot))
+    monkeypatch.setattr(canonical, "periodic_form", counting("periodic_form", canonical.periodic_form))
+    monkeypatch.setattr(phelps_hunter, "_small_parameter_exponent",
+                        counting("interval_eq12", phelps_hunter._small_parameter_exponent))
+    import pendulab.analyses.series as series
+    monkeypatch.setattr(series, "stability_interval_series",
+                        counting("series", series.stability_interval_series))
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    table = ('[products.stability]\npoints = 5\nmax_ratio = "1/2"\n'
+             'methods = ["eq12", "eq19", "eq19-corrected", "eq28"]\nfigure = false\n')
+    _write(scenes, 'system = "kapitza"\n[parameters]\nbody = "point"\n[products.equations]\n' + table,
+           "point.toml")
+    _write(scenes, 'system = "kapitza"\n[parameters]\nbody = "rod"\n[products.equations]\n' + table,
+           "rod.toml")
+    assert build(scenes, tmp_path / "out", log=lambda m: None) == {"point": "built", "rod": "built"}
+    # eq28 rows: the same 5 values of omega0/omega for both bodies, computed once each
+    assert counts == {"derive": 1, "periodic_form": 2, "interval_eq12": 1, "series": 5}
+
+
+def test_shared_series_limits_are_bit_for_bit_the_direct_ones():
+    """The comparison's series rows, shared across bodies, equal the direct
+    stability_interval_series(order, ratio, inertia_ratio) exactly."""
+    from pendulab.analyses import series, stability
+    for order in (2, 6):
+        for ratio in (0.0, 0.15, 0.35):
+            for r in (1.0, 4 / 3, 1.7):
+                assert stability.limits(ratio, r, f"series:{order}") == \
+                    series.stability_interval_series(order, ratio, r)

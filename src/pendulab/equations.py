@@ -5,7 +5,7 @@
 ``expr = 0``.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy as sp
 
@@ -118,9 +118,39 @@ def _derive_variable_length(system):
 
 
 def derive(system):
-    """Euler-Lagrange equations of ``system`` (a DrivenPivot or VariableLength)."""
+    """Euler-Lagrange equations of ``system`` (a DrivenPivot or VariableLength).
+
+    Each derivation is done once per process and then shared (the record is
+    immutable): for the driven pivot the equations depend on the drive and the
+    angle only, since the moment of inertia stays the symbol I (the body's
+    value enters where a product substitutes it), so the rod, the point mass
+    and the generic body of the analyses (phelps_hunter, averaging) share one
+    derivation; the record returned names the ``system`` asked for.
+    """
+    eqs = _derive_once(derivation_key(system), system)
+    return eqs if eqs.system == system else replace(eqs, system=system)
+
+
+def derivation_key(system):
+    """What the equations of ``system`` depend on: (class, drive, angle) or (class, length, mass)."""
     if isinstance(system, DrivenPivot):
-        return _derive_driven_pivot(system)
+        return (DrivenPivot, system.drive, system.angle)
     if isinstance(system, VariableLength):
-        return _derive_variable_length(system)
+        return (VariableLength, system.length, system.mass)
     raise InputError(f"unknown system {system!r}")
+
+
+_DERIVED = {}
+#: Derivations kept per process (the oldest is dropped beyond this many).
+MAX_CACHED = 32
+
+
+def _derive_once(key, system):
+    """The derivation for ``key``, computed by the first ``system`` that has it."""
+    if key not in _DERIVED:
+        run = _derive_driven_pivot if key[0] is DrivenPivot else _derive_variable_length
+        eqs = run(system)
+        if len(_DERIVED) >= MAX_CACHED:
+            _DERIVED.pop(next(iter(_DERIVED)))
+        _DERIVED[key] = eqs
+    return _DERIVED[key]

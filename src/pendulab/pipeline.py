@@ -57,12 +57,31 @@ def _stage_equations(ctx):
     return derive(ctx.get("system"))
 
 
+#: Canonical forms computed in this process, by derivation key (see _stage_canonical).
+_CANONICAL = {}
+
+
 def _stage_canonical(ctx):
+    """The canonical form; shared by the scenes whose equations are the same derivation.
+
+    The equations depend only on the derivation key of the system
+    (:func:`pendulab.equations.derivation_key`: drive and angle, or length and
+    mass), and the canonical form only on the equations, so a build that has
+    a rod and a point mass with one drive forms it once.
+    """
     from pendulab import canonical
+    from pendulab.equations import MAX_CACHED, derivation_key
     eqs = ctx.get("equations")
-    if ctx.scene.system == "kapitza":
-        return canonical.periodic_form(eqs)
-    return canonical.length_form(eqs)
+    key = derivation_key(eqs.system)
+    if key not in _CANONICAL:
+        if ctx.scene.system == "kapitza":
+            form = canonical.periodic_form(eqs)
+        else:
+            form = canonical.length_form(eqs)
+        if len(_CANONICAL) >= MAX_CACHED:
+            _CANONICAL.pop(next(iter(_CANONICAL)))
+        _CANONICAL[key] = form
+    return _CANONICAL[key]
 
 
 def _stage_closed_form(ctx):

@@ -157,13 +157,29 @@ def _exact(ratio, inertia_ratio):
     return (None if lower is None else float(lower)), (None if upper is None else float(upper))
 
 
-def _series(order, ratio, inertia_ratio):
+@functools.lru_cache(maxsize=4096)
+def _series_theta1(order, ratio):
+    """theta1 at the (lower, upper) limits of the series at ``order`` for omega0/omega = ``ratio``.
+
+    theta1 = 2 (a/l)/(I/(m l^2)) (000 eq. 6) does not depend on the body, so
+    the limits in theta1 are computed once per (order, ratio) and shared by
+    every body of a build (the point mass and the rod use one grid).  They
+    are read as the limits of a/l for I/(m l^2) = 2, where a/l = theta1 * 2/2
+    is theta1 itself, bit for bit.
+    """
     try:
         from pendulab.analyses.series import stability_interval_series
     except ImportError:
         raise _missing(f"series:{order}", "pendulab.analyses.series.stability_interval_series") from None
-    lower, upper = stability_interval_series(order, ratio, inertia_ratio)
-    return (None if lower is None else float(lower)), (None if upper is None else float(upper))
+    return stability_interval_series(order, ratio, 2.0)
+
+
+def _series(order, ratio, inertia_ratio):
+    """a/l = theta1 * inertia_ratio / 2, the operations stability_interval_series does itself."""
+    t_lower, t_upper = _series_theta1(order, ratio)
+    lower = None if t_lower is None else float(t_lower) * inertia_ratio / 2
+    upper = None if t_upper is None else float(t_upper) * inertia_ratio / 2
+    return lower, upper
 
 
 def _integer_series(order, ratio, inertia_ratio):

@@ -1,4 +1,4 @@
-"""pendulab build SCENE [--force] [--out DIR]"""
+"""pendulab build SCENE [--force] [--out DIR] [--replace]"""
 
 import argparse
 
@@ -13,11 +13,15 @@ def add_parser(sub):
     p.add_argument("scene", help="a scene file (derivations/*.toml) or a directory of them")
     p.add_argument("--force", action="store_true", help="rebuild even when up to date")
     p.add_argument("--out", default="generated", help="output root directory")
+    p.add_argument("--replace", action="store_true",
+                   help="replace the outputs of a scene of the same name built from another "
+                        "scene file (refused without it)")
     p.set_defaults(func=run)
     return p
 
 
 def run(args):
-    from pendulab.build import build
-    build(args.scene, out_root=args.out, force=args.force)
+    from pendulab.build import build, check_out_root
+    check_out_root(args.out, "--out")  # before reading or computing anything
+    build(args.scene, out_root=args.out, force=args.force, replace=args.replace)
     return 0
