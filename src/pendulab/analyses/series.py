@@ -839,12 +839,32 @@ def stability_interval_series(order, ratio, inertia_ratio):
     why the non-integer series cannot reach the exact upper limit, which lies
     at nu = 1, and :func:`stability_interval_integer_series` for one that can.
     """
-    import numpy as np
     _check_order(order, minimum=2)
     if order > 120:
         raise InputError(f"stability_interval_series: order {order} > 120 is not supported in double precision")
     rho, iota = _check_body(ratio, inertia_ratio)
-    target = -4.0 * rho * rho
+    target, slope = _map_point(rho, iota)
+    lower_t1, upper_t1 = interval_series_theta1(order, target)
+    lower = None if lower_t1 is None else float(lower_t1) / slope
+    upper = None if upper_t1 is None else float(upper_t1) / slope
+    return lower, upper
+
+
+def _map_point(rho, iota):
+    """theta0 and theta1/(a/l) of the source's drive for this body, from the derivation."""
+    from pendulab.analyses.stability import map_point
+    target, slope = map_point(rho, iota)
+    return target, abs(slope)
+
+
+def interval_series_theta1(order, target):
+    """(lower, upper) theta1 of the stable interval at theta0 = ``target`` from the series.
+
+    The Mathieu-plane engine of :func:`stability_interval_series` (same
+    branch-following; None where the truncated branch has no such point).
+    """
+    import numpy as np
+    _check_order(order, minimum=2)
     polys = _alpha_polys_in_x(order)
 
     # lower: the branch crosses nu^2 = 0
@@ -869,9 +889,7 @@ def stability_interval_series(order, ratio, inertia_ratio):
             upper_t1 = max(-res.fun, prev[1])
             break
         before, prev = prev, (float(x), t)
-    lower = None if lower_t1 is None else float(lower_t1) * iota / 2
-    upper = None if upper_t1 is None else float(upper_t1) * iota / 2
-    return lower, upper
+    return lower_t1, upper_t1
 
 
 def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="warn"):
@@ -894,7 +912,17 @@ def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="wa
     _check_order(order)
     _check_on_domain(on_domain, ("raise", "warn", "omit"))
     rho, iota = _check_body(ratio, inertia_ratio)
-    target = -4.0 * rho * rho
+    target, slope = _map_point(rho, iota)
+    return tuple(None if q is None else q / slope
+                 for q in interval_integer_series_theta1(order, target, on_domain))
+
+
+def interval_integer_series_theta1(order, target, on_domain="warn"):
+    """(lower, upper) |theta1| with a_0 = target and b_1 = target from the DLMF 28.6 series.
+
+    The Mathieu-plane engine of :func:`stability_interval_integer_series`.
+    """
+    _check_on_domain(on_domain, ("raise", "warn", "omit"))
     limits = []
     for kind in ("a0", "b1"):
         s = characteristic_series(kind, order)
@@ -909,7 +937,7 @@ def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="wa
         if kind == "a0" and target == 0:
             root = 0.0
         else:
-            root = _first_root(f, 0.0, 3.0 * s.radius + 8 * rho * rho, 6000)
+            root = _first_root(f, 0.0, 3.0 * s.radius + 2 * abs(target), 6000)
         if root is not None and root >= s.radius:
             if on_domain == "omit":
                 root = None
@@ -917,5 +945,5 @@ def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="wa
                 _domain(f"{kind}: the limit Q = {root:g} lies beyond the radius of convergence "
                         f"{s.radius} (DLMF Table 28.6.1); the truncated series is unreliable there",
                         on_domain)
-        limits.append(None if root is None else root * iota / 2)
+        limits.append(root)
     return limits[0], limits[1]
