@@ -174,5 +174,5 @@ def hill_trace(fourier, period):
     if error > 1e-6 * max(1.0, abs(y2)):
         raise ConvergenceError(f"hill_trace: the truncated determinants did not converge "
                                f"(two extrapolations differ by {error:.2g})")
-    trace = 2 * y2
-    return HillTrace(trace, abs(trace) < 2, error, N0 * 16, T, s)
+    trace = float(2 * y2)
+    return HillTrace(trace, bool(abs(trace) < 2), float(error), N0 * 16, T, float(s))

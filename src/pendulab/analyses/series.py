@@ -814,8 +814,9 @@ def _branch_theta1(polys, x, target):
 def stability_interval_series(order, ratio, inertia_ratio):
     """(lower, upper) limits of a/l from the source's series at ``order`` (000 eq. 28 at order 2).
 
-    With theta0 = -4 ratio^2 (000 eq. 5), theta1 = 2 (a/l) / inertia_ratio
-    (000 eq. 6) and theta0 = nu^2 + sum_{n<=order} alpha_n theta1^n (000 eqs.
+    With theta0 and theta1 from the derivation (for the source's drive
+    theta0 = -4 ratio^2, 000 eq. 5, and theta1 = 2 (a/l) / inertia_ratio,
+    000 eq. 6; :func:`pendulab.analyses.stability.body_map`) and theta0 = nu^2 + sum_{n<=order} alpha_n theta1^n (000 eqs.
     20, 27), solve for x = nu^2 as the source does after eq. 27.  The branch of
     roots x that starts at x = theta0 for theta1 = 0 (the inverted position,
     minus sign in the source's formula for nu^2) is followed as theta1 grows,
