@@ -451,6 +451,25 @@ def _mathieu_plane(kind, order, theta0):
     return series.interval_integer_series_theta1(order, theta0, on_domain="omit")
 
 
+def _applicable(pmap, method):
+    """(kind, order) of ``method`` if it applies to this drive; a one-line refusal otherwise."""
+    kind, order = parse_method(method)
+    if pmap.kind == "linear":
+        pmap.refuse("stability limits", f"method {method!r}")
+    if pmap.kind == "hill":
+        if kind != "exact":
+            raise InputError(f"method {method!r} is derived for Mathieu's equation; the drive "
+                             f"{pmap.drive} gives Hill's equation (only 'exact' applies)")
+    elif kind not in MATHIEU_PLANE:
+        raise InputError(f"method {method!r} is derived by averaging the drive a*cos(omega*t); "
+                         f"this scene's drive is {pmap.drive} (use the Mathieu-plane methods "
+                         f"{', '.join(MATHIEU_PLANE)})")
+    elif pmap.slope is None:
+        raise InputError(f"theta1 = {pmap.theta1} is not proportional to a/l: the limits of a/l "
+                         "are not defined by one band edge each")
+    return kind, order
+
+
 def scene_limits(pmap, ratio, method="exact", groups=None):
     """(lower, upper) of a/l at omega0/omega = ``ratio`` for a scene's ParameterMap.
 
@@ -462,19 +481,10 @@ def scene_limits(pmap, ratio, method="exact", groups=None):
     {"inertia_ratio": 1}) when the body's inertia is symbolic.
     """
     rho = check_ratio(ratio)
-    kind, order = parse_method(method)
+    kind, order = _applicable(pmap, method)
     groups = dict(groups or {})
-    if pmap.kind == "linear":
-        pmap.refuse("stability limits", f"method {method!r}")
     if pmap.kind == "hill":
-        if kind != "exact":
-            raise InputError(f"method {method!r} is derived for Mathieu's equation; the drive "
-                             f"{pmap.drive} gives Hill's equation (only 'exact' applies)")
         return hill_limits(pmap, rho, groups)
-    if kind not in MATHIEU_PLANE:
-        raise InputError(f"method {method!r} is derived by averaging the drive a*cos(omega*t); "
-                         f"this scene's drive is {pmap.drive} (use the Mathieu-plane methods "
-                         f"{', '.join(MATHIEU_PLANE)})")
     theta0, slope = map_point(rho, groups.get("inertia_ratio", 1), pmap)
     if theta0 >= 1:
         raise InputError(f"theta0 = {theta0:.6g} >= 1 at omega0/omega = {rho}: the first stable "
@@ -489,7 +499,7 @@ def scene_comparison(pmap, ratios, methods, groups=None):
     grid = [check_ratio(r) for r in ratios]
     names = []
     for method in methods:
-        parse_method(method)
+        _applicable(pmap, method)
         if method not in names:
             names.append(method)
     table = {m: [list(scene_limits(pmap, rho, m, groups)) for rho in grid] for m in names}
