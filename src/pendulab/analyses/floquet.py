@@ -1096,7 +1096,7 @@ def map_limits(pmap, point, dps=None, what="the limits"):
     Mathieu drive whose theta1 is proportional to a/l; ``point`` gives the
     other groups ({"w0_over_w": ..., "inertia_ratio": ...}; exact values such
     as Fraction or decimal text are rounded afresh at each working precision).
-    theta0 and the slope theta1/(a/l) are evaluated with the map's mpmath
+    theta0 and the scale (a/l)/theta1 are evaluated with the map's mpmath
     function at the working precision, the band by :func:`first_band`.
     """
     dps = _check_dps(dps)
@@ -1110,9 +1110,9 @@ def map_limits(pmap, point, dps=None, what="the limits"):
             with mpmath.workdps(ww):
                 args = {k: _mp(v) for k, v in exact.items()}
                 th0 = pmap.evaluate("theta0", args, "mpmath")
-                slope = abs(pmap.evaluate("slope", args, "mpmath"))
+                scale = abs(pmap.evaluate("scale", args, "mpmath"))
                 lo, up = _first_band_mp(th0, ww)
-                res.append((lo / slope, up / slope))
+                res.append((lo * scale, up * scale))
         with mpmath.workdps(w + 10):
             ok = all(abs(a - b) <= mpmath.mpf(10) ** (-(want + 2)) * max(1, abs(b))
                      for a, b in zip(res[0], res[1]))

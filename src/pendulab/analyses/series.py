@@ -844,18 +844,18 @@ def stability_interval_series(order, ratio, inertia_ratio):
     if order > 120:
         raise InputError(f"stability_interval_series: order {order} > 120 is not supported in double precision")
     rho, iota = _check_body(ratio, inertia_ratio)
-    target, slope = _map_point(rho, iota)
+    target, scale = _map_point(rho, iota)
     lower_t1, upper_t1 = interval_series_theta1(order, target)
-    lower = None if lower_t1 is None else float(lower_t1) / slope
-    upper = None if upper_t1 is None else float(upper_t1) / slope
+    lower = None if lower_t1 is None else float(lower_t1) * scale
+    upper = None if upper_t1 is None else float(upper_t1) * scale
     return lower, upper
 
 
 def _map_point(rho, iota):
-    """theta0 and theta1/(a/l) of the source's drive for this body, from the derivation."""
+    """theta0 and (a/l)/theta1 of the source's drive for this body, from the derivation."""
     from pendulab.analyses.stability import map_point
-    target, slope = map_point(rho, iota)
-    return target, abs(slope)
+    target, scale = map_point(rho, iota)
+    return target, abs(scale)
 
 
 def interval_series_theta1(order, target):
@@ -913,8 +913,8 @@ def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="wa
     _check_order(order)
     _check_on_domain(on_domain, ("raise", "warn", "omit"))
     rho, iota = _check_body(ratio, inertia_ratio)
-    target, slope = _map_point(rho, iota)
-    return tuple(None if q is None else q / slope
+    target, scale = _map_point(rho, iota)
+    return tuple(None if q is None else q * scale
                  for q in interval_integer_series_theta1(order, target, on_domain))
 
 

@@ -275,7 +275,7 @@ def reference_limits(ratio, inertia_ratio=1):
     from scipy.special import mathieu_a, mathieu_b
 
     rho, r = check_ratio(ratio), check_inertia_ratio(inertia_ratio)
-    theta0, slope = map_point(rho, r)
+    theta0, scale = map_point(rho, r)
     q_max = 3.0
     f_low = lambda q: mathieu_a(0, q) - theta0  # noqa: E731
     f_up = lambda q: mathieu_b(1, q) - theta0  # noqa: E731
@@ -283,7 +283,7 @@ def reference_limits(ratio, inertia_ratio=1):
         raise InputError(f"omega0/omega = {rho} needs q > {q_max}, beyond the range trusted here")
     low = 0.0 if rho == 0 else brentq(f_low, 0.0, q_max, xtol=1e-15, rtol=1e-14)
     up = brentq(f_up, 0.0, q_max, xtol=1e-15, rtol=1e-14)
-    return low / slope, up / slope
+    return low * scale, up * scale
 
 
 # ---------------------------------------------------------------------------
@@ -319,7 +319,7 @@ class ParameterMap:
         self.form = form
         self.drive = drive if drive is not None else equations.system.drive
         self.note = form.note
-        self.theta0 = self.theta1 = self.slope = None
+        self.theta0 = self.theta1 = self.slope = self.scale = None
         self.system = None
         if form.kind == "mathieu":
             self.theta0, self.theta1 = mathieu_parameters(equations, form, values=values)
@@ -328,6 +328,7 @@ class ParameterMap:
             if (not self.theta0.has(S.a_over_l) and not slope.has(S.a_over_l)
                     and slope != 0):
                 self.slope = slope
+                self.scale = sp.simplify(1 / slope)  # a/l per unit theta1
         elif form.kind == "hill":
             self.system = pivot_system(equations, form, values=values)
             names = set(self.system.params)
@@ -346,7 +347,8 @@ class ParameterMap:
         import sympy as sp
         key = (which, module)
         if key not in self._fns:
-            expr = {"theta0": self.theta0, "theta1": self.theta1, "slope": self.slope}[which]
+            expr = {"theta0": self.theta0, "theta1": self.theta1, "slope": self.slope,
+                    "scale": self.scale}[which]
             self._fns[key] = sp.lambdify(self.symbols, expr, module)
         return self._fns[key]
 
@@ -362,7 +364,7 @@ class ParameterMap:
         """theta0, theta1 or slope at ``point`` ({group name: value}) with NumPy or mpmath."""
         if self.kind != "mathieu":
             raise InputError(f"the drive gives a {self.kind} equation: it has no {which}")
-        if which == "slope" and self.slope is None:
+        if which in ("slope", "scale") and self.slope is None:
             raise InputError(f"theta1 = {self.theta1} is not proportional to a/l")
         return self._fn(which, module)(*self._args(point))
 
@@ -404,11 +406,15 @@ def scene_map(ctx):
 
 
 def map_point(ratio, inertia_ratio, pmap=None):
-    """(theta0, slope) in double precision at omega0/omega = ratio for ``pmap`` (default the body map)."""
+    """(theta0, scale) in double precision at omega0/omega = ratio for ``pmap`` (default the body map).
+
+    ``scale`` = (a/l)/theta1 (inertia_ratio/2 for the source's drive): a limit
+    theta1* of the Mathieu plane is the limit a/l = scale theta1*.
+    """
     pmap = body_map() if pmap is None else pmap
     point = {"w0_over_w": ratio, "inertia_ratio": inertia_ratio}
     point = {k: v for k, v in point.items() if k in {s.name for s in pmap.symbols}}
-    return float(pmap.evaluate("theta0", point, "math")), float(pmap.evaluate("slope", point, "math"))
+    return float(pmap.evaluate("theta0", point, "math")), float(pmap.evaluate("scale", point, "math"))
 
 
 #: Methods that live in the Mathieu plane (functions of theta0 and theta1 only):
@@ -485,13 +491,13 @@ def scene_limits(pmap, ratio, method="exact", groups=None):
     groups = dict(groups or {})
     if pmap.kind == "hill":
         return hill_limits(pmap, rho, groups)
-    theta0, slope = map_point(rho, groups.get("inertia_ratio", 1), pmap)
+    theta0, scale = map_point(rho, groups.get("inertia_ratio", 1), pmap)
     if theta0 >= 1:
         raise InputError(f"theta0 = {theta0:.6g} >= 1 at omega0/omega = {rho}: the first stable "
                          "band is not the one that starts at a/l = 0")
     lo, up = _mathieu_plane(kind, order, theta0)
-    slope = abs(slope)
-    return (None if lo is None else float(lo) / slope), (None if up is None else float(up) / slope)
+    scale = abs(scale)
+    return (None if lo is None else float(lo) * scale), (None if up is None else float(up) * scale)
 
 
 def scene_comparison(pmap, ratios, methods, groups=None):
