@@ -1138,7 +1138,9 @@ def first_band(theta0, dps=None):
 
     >>> lo, up = first_band(-0.01)
     >>> round(lo, 10), round(up, 10)
-    (0.1415759161, 0.9164371643)
+    (0.1415759161, 0.9164371642)
+    >>> round(mathieu_a(0, lo), 12), round(mathieu_b(1, up), 12)   # on the two curves
+    (-0.01, -0.01)
     """
     dps = _check_dps(dps)
     X0 = _exact(theta0, "theta0")

@@ -478,10 +478,10 @@ def floquet_verdict(fos, params, *, dps=None, method="dop853", max_dps=None):
     >>> fos = pivot_system(eqs, periodic_form(eqs))   # theta0 = -4 w^2, theta1 = 2 a/l
     >>> v = floquet_verdict(fos, {"a_over_l": "1/10", "w0_over_w": "1/20"})
     >>> v.stable, round(v.trace, 10)
-    (True, 1.8283427553)
+    (True, 1.9010053013)
     >>> from pendulab.analyses.floquet import characteristic_exponent
     >>> round(characteristic_exponent(-0.01, 0.2).trace.real, 10)   # Hill's determinant
-    1.8283427553
+    1.9010053013
     """
     if method not in METHODS:
         raise InputError(f"floquet_verdict: method must be one of {', '.join(METHODS)}, "
