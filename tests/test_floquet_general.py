@@ -189,5 +189,29 @@ def test_refusals():
         floquet_verdict(fos, {"a_over_l": 0.1, "w0_over_w": 0.1}, method="rk4")
     with pytest.raises(InputError, match="finite"):
         floquet_verdict(fos, {"a_over_l": float("nan"), "w0_over_w": 0.1})
+    # parameter values are read exactly, the sign of an mpf included
+    from pendulab.numerics.monodromy import _sympy_number
+    assert _sympy_number(mpmath.mpf(-3.5), "x") == sp.Rational(-7, 2)
+    assert _sympy_number("2*pi", "x") == 2 * sp.pi
     with pytest.raises(InputError, match="needs method='mp'"):
         floquet_verdict(fos, {"a_over_l": 0.1, "w0_over_w": 0.1}, dps=30)
+
+
+@pytest.mark.parametrize("side", [+1, -1])
+def test_mp_monodromy_decides_the_side_1e_20_from_a_0(side):
+    # theta0 = a_0(q) +- 1e-20 (a_0 at 60 digits, DLMF 28.4 matrices): stable just above
+    q = sp.Rational(2, 5)
+    with mpmath.workdps(60):
+        edge = mathieu_a(0, "0.4", dps=60)
+        theta0 = edge + side * mpmath.mpf(10) ** -20
+        sign, man, exp, _ = theta0._mpf_
+    theta0_exact = (-1) ** sign * sp.Integer(int(man)) * sp.Integer(2) ** int(exp)
+    _, _, fos = _pivot()
+    v = floquet_verdict(fos, {"a_over_l": q / 2, "w0_over_w": sp.sqrt(-theta0_exact / 4)},
+                        dps=30, method="mp")
+    assert v.stable is (side > 0) and not v.on_boundary
+    ref = characteristic_exponent(theta0, "0.4", dps=30, method="cf")
+    assert ref.stable is v.stable
+    with mpmath.workdps(30):
+        tr = mpmath.re(ref.multipliers[0] + ref.multipliers[1])
+        assert abs(v.trace - tr) < mpmath.mpf(10) ** -28

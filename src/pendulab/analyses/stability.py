@@ -339,9 +339,9 @@ class ParameterMap:
 
     def refuse(self, product, what):
         """A one-line InputError: ``product`` cannot do ``what`` for this drive."""
-        raise InputError(f"{product}: {what} needs a periodic drive (Mathieu's or Hill's "
-                         f"equation); the drive {self.drive} gives a {self.kind} equation"
-                         + (f" ({self.note})" if self.note else ""))
+        raise InputError(f"{product}: no {what} for the drive {self.drive}: it gives a "
+                         f"{self.kind} equation, neither Mathieu's nor Hill's (a periodic "
+                         "drive is needed)" + (f"; {self.note}" if self.note else ""))
 
     def _fn(self, which, module):
         import sympy as sp
@@ -358,6 +358,11 @@ class ParameterMap:
         if unknown:
             raise InputError(f"unknown group(s) {', '.join(unknown)} (the map has "
                              f"{', '.join(sorted(names))})")
+        # a/l may be left out where only theta0 or the scale is asked for (they do not
+        # involve it); every other group must be given
+        missing = sorted(names - set(point) - {"a_over_l"})
+        if missing:
+            raise InputError(f"the map needs a value for {', '.join(missing)}")
         return [point.get(s.name, 0) for s in self.symbols]
 
     def evaluate(self, which, point, module="numpy"):
@@ -413,7 +418,8 @@ def map_point(ratio, inertia_ratio, pmap=None):
     """
     pmap = body_map() if pmap is None else pmap
     point = {"w0_over_w": ratio, "inertia_ratio": inertia_ratio}
-    point = {k: v for k, v in point.items() if k in {s.name for s in pmap.symbols}}
+    point = {k: v for k, v in point.items()
+             if v is not None and k in {s.name for s in pmap.symbols}}
     return float(pmap.evaluate("theta0", point, "math")), float(pmap.evaluate("scale", point, "math"))
 
 
@@ -491,7 +497,7 @@ def scene_limits(pmap, ratio, method="exact", groups=None):
     groups = dict(groups or {})
     if pmap.kind == "hill":
         return hill_limits(pmap, rho, groups)
-    theta0, scale = map_point(rho, groups.get("inertia_ratio", 1), pmap)
+    theta0, scale = map_point(rho, groups.get("inertia_ratio"), pmap)
     if theta0 >= 1:
         raise InputError(f"theta0 = {theta0:.6g} >= 1 at omega0/omega = {rho}: the first stable "
                          "band is not the one that starts at a/l = 0")

@@ -116,8 +116,8 @@ def _sympy_number(value, name):
     if isinstance(value, mpmath.mpf):
         if not mpmath.isfinite(value):
             raise InputError(f"{name} must be finite, got {value}")
-        man, exp = value.man_exp
-        return sp.Integer(man) * sp.Integer(2) ** exp
+        sign, man, exp, _ = value._mpf_
+        return (-1) ** sign * sp.Integer(int(man)) * sp.Integer(2) ** int(exp)
     if isinstance(value, str):
         from pendulab.exprs import parse
         expr = parse(value)

@@ -1,11 +1,17 @@
 """Product "floquet": exact Floquet exponents and the exact first stable band.
 
 Writes ``floquet.json``: for each requested (theta0, theta1) point the
-characteristic exponent lambda, the multipliers and the verdict (000 eqs. 7-10),
-and for each requested omega0/omega the exact limits of a/l of the first
-stable band for the scene's body (theta0 = -4 (omega0/omega)^2, theta1 =
-2 (a/l)/(I/(m l^2)); 000 eqs. 5-6).  All numbers are strings at ``dps`` digits;
-the file is byte-identical on every run.
+characteristic exponent lambda, the multipliers and the verdict (000 eqs. 7-10;
+these are points of Mathieu's plane, whatever the drive), and for each
+requested omega0/omega the exact limits of a/l of the first stable band for
+the scene's body and drive.  theta0 and theta1 come from the scene's own
+derivation (:func:`pendulab.analyses.stability.scene_map`; for the source's
+drive theta0 = -4 (omega0/omega)^2, theta1 = 2 (a/l)/(I/(m l^2)), 000 eqs.
+5-6); a Hill drive gets its limits from the monodromy verdict along a/l
+(double precision, :func:`pendulab.analyses.stability.hill_limits`); a
+non-periodic drive is refused.  With scene ``[values]`` the file also holds
+``scene_point``, the scene's own (theta0, theta1) and verdict.  All numbers
+are strings at ``dps`` digits; the file is byte-identical on every run.
 """
 
 OPTIONS = {
