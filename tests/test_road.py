@@ -219,3 +219,13 @@ def test_the_source_map_is_derived_not_typed():
     # 000 eqs. 5-6 in the groups: theta0 = -4 (omega0/omega)^2, theta1 = 2 (a/l)/(I/(m l^2))
     assert sp.simplify(m.theta0 + 4 * S.w0_over_w**2) == 0
     assert sp.simplify(m.theta1 - 2 * S.a_over_l / S.inertia_ratio) == 0
+
+
+def test_variable_length_values_name_its_own_symbols():
+    data = {"system": "variable-length", "products": {"equations": {}},
+            "values": {"L0": 1, "v0": "1/10", "g": 9.81}}
+    scene = parse_scene(data, "vl.toml")
+    assert scene.values == {"L0": 1, "v0": sp.Rational(1, 10), "g": sp.Rational(981, 100)}
+    data["values"] = {"a": 1, "omega0": 2}
+    with pytest.raises(SceneError, match=r"values\.a: not a symbol"):
+        parse_scene(data, "vl.toml")

@@ -108,19 +108,30 @@ def _coefficients(fourier, period):
 
 
 def _det(c, d, s, N):
+    """det of the normalised Hill matrix truncated to |n| <= N (banded LU, LAPACK gbtrf)."""
     import numpy as np
+    from scipy.linalg import lapack
 
     n = np.arange(-N, N + 1)
+    size = 2 * N + 1
     real = all(v.imag == 0 for v in c.values())
     diag = (c[0].real if real else c[0]) - (s + d * n) ** 2
-    M = np.eye(2 * N + 1, dtype=float if real else complex)
+    band = min(max(abs(j) for j in c), size - 1)
+    kl = ku = band
+    # LAPACK band storage: ab[kl + ku + i - j, j] = M[i, j]
+    ab = np.zeros((2 * kl + ku + 1, size), dtype=float if real else complex)
+    ab[kl + ku, :] = 1.0
     for j, cj in c.items():
-        if j == 0 or cj == 0 or abs(j) > 2 * N:
+        if j == 0 or cj == 0 or abs(j) > band:
             continue
-        rows = np.arange(max(0, j), min(2 * N + 1, 2 * N + 1 + j))
-        M[rows, rows - j] = (cj.real if real else cj) / diag[rows]
-    sign, logdet = np.linalg.slogdet(M)
-    return (sign * np.exp(logdet)).real
+        rows = np.arange(max(0, j), min(size, size + j))
+        ab[kl + ku + j, rows - j] = (cj.real if real else cj) / diag[rows]
+    lu, piv, info = (lapack.dgbtrf if real else lapack.zgbtrf)(ab, kl, ku)
+    if info < 0:  # pragma: no cover
+        raise ConvergenceError(f"hill_trace: LAPACK gbtrf failed (info {info})")
+    u = lu[kl + ku, :]
+    swaps = int(np.count_nonzero(piv != np.arange(size)))
+    return float((np.prod(u) * (-1) ** swaps).real)
 
 
 def _extrapolate(values):
@@ -158,7 +169,7 @@ def hill_trace(fourier, period):
 
     s = max((0.0, d / 2), key=gap)
     jmax = max(abs(j) for j in c)
-    N0 = int(math.ceil(math.sqrt(size))) + 12 + jmax
+    N0 = 2 * int(math.ceil(math.sqrt(size))) + 24 + 2 * jmax
     dets = [_det(c, d, s, N0 * 2 ** i) for i in range(5)]
     D1, D2 = _extrapolate(dets[:4]), _extrapolate(dets[1:])
     if x0 >= 0:
