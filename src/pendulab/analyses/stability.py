@@ -340,8 +340,8 @@ class ParameterMap:
     def refuse(self, product, what):
         """A one-line InputError: ``product`` cannot do ``what`` for this drive."""
         raise InputError(f"{product}: no {what} for the drive {self.drive}: it gives a "
-                         f"{self.kind} equation, neither Mathieu's nor Hill's (a periodic "
-                         "drive is needed)" + (f"; {self.note}" if self.note else ""))
+                         f"{self.kind} equation (a periodic drive is needed)"
+                         + (f"; {self.note}" if self.note else ""))
 
     def _fn(self, which, module):
         import sympy as sp
@@ -467,7 +467,7 @@ def _applicable(pmap, method):
     """(kind, order) of ``method`` if it applies to this drive; a one-line refusal otherwise."""
     kind, order = parse_method(method)
     if pmap.kind == "linear":
-        pmap.refuse("stability limits", f"method {method!r}")
+        pmap.refuse("stability limits", f"limits of a/l by method {method!r}")
     if pmap.kind == "hill":
         if kind != "exact":
             raise InputError(f"method {method!r} is derived for Mathieu's equation; the drive "

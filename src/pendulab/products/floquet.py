@@ -119,9 +119,9 @@ def produce(ctx, options):
     ratio_sym = sp.nsimplify(system.inertia_ratio)
     pmap = scene_map(ctx)
     if pmap.kind == "linear":
-        pmap.refuse("floquet product", "the Floquet exponent and the limits of a/l")
+        pmap.refuse("floquet product", "Floquet exponents or limits of a/l")
     limits = None
-    if pmap.kind == "hill":
+    if pmap.kind == "hill" and ratio_sym.is_number:
         limits = []
         for r in ratios:
             lo, up = hill_limits(pmap, _exact_text(r))

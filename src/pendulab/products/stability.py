@@ -188,7 +188,7 @@ def produce(ctx, options):
         # the scene's own map (a/l, omega0/omega) -> the canonical stage
         pmap = scene_map(ctx)
         if pmap.kind == "linear":
-            pmap.refuse("the stability product", "the limits of a/l")
+            pmap.refuse("the stability product", "limits of a/l")
         source = pmap.is_source_map(ratio_expr)
         if source:
             table = comparison(ratios, float(ratio_expr), options["methods"])
