@@ -49,7 +49,7 @@ def _build(drive, products, values=None):
     return {k: (json.loads(v) if k.endswith(".json") else v) for k, v in files.items()}, ctx
 
 
-METHODS = ["exact", "eq28", "series:4"]
+METHODS = ["exact", "eq12", "integer-series:4"]
 POINT = [["-0.002", "0.2"]]
 # one build per drive (a derivation costs seconds): floquet and stability together
 PRODUCTS = {
@@ -165,23 +165,29 @@ def test_stability_product_follows_the_drive(built):
     assert squared["formulas"] == {} and squared["drive"] == SQUARED
 
 
-def test_methods_that_do_not_apply_are_refused_in_one_line():
-    prod = {"stability": {"points": 3, "methods": ["exact", "eq19"], "figure": False}}
-    with pytest.raises(SceneError, match=r"products\.stability: method 'eq19' is derived by "
-                                         r"averaging the drive a\*cos\(omega\*t\)"):
-        _build(SQUARED, prod)
-    with pytest.raises(SceneError, match=r"products\.stability: method 'eq28' is derived for "
-                                         r"Mathieu's equation"):
-        _build(HILL, {"stability": {"points": 3, "methods": ["exact", "eq28"], "figure": False}})
+def test_methods_that_do_not_apply_are_refused_in_one_line(built, hill_built):
+    from pendulab.analyses.stability import scene_comparison, scene_map
+    from pendulab.errors import InputError
+
+    with pytest.raises(InputError, match=r"method 'eq19' is derived by averaging the drive "
+                                         r"a\*cos\(omega\*t\)"):
+        scene_comparison(scene_map(built[SQUARED][1]), [0.1], ["exact", "eq19"])
+    with pytest.raises(InputError, match=r"method 'eq28' is derived for Mathieu's equation"):
+        scene_comparison(scene_map(hill_built[1]), [0.1], ["exact", "eq28"])
 
 
-@pytest.mark.parametrize("product", ["floquet", "stability"])
-def test_a_non_periodic_drive_is_refused_in_one_line(product):
+def test_a_non_periodic_drive_is_refused_in_one_line():
+    from pendulab.pipeline import Context, product_module
+
     drive = "a*cos(omega*t) + a*cos(sqrt(2)*omega*t)"
-    with pytest.raises(Exception) as info:
-        _build(drive, {product: {"figure": False} if product == "stability" else {}})
-    text = str(info.value)
-    assert "\n" not in text and product in text and "linear equation" in text
+    scene = _scene(drive, {"floquet": {}, "stability": {"figure": False}})
+    ctx = Context(scene)  # one derivation for both products
+    for product in ("floquet", "stability"):
+        with pytest.raises(Exception) as info:
+            product_module(product).produce(ctx, scene.products[product])
+        text = str(info.value)
+        assert "\n" not in text and product in text and "linear equation" in text
+        assert "products.stability" in text if product == "stability" else True
 
 
 # The source's Fig. 2 pendulum (000 sec. 4): a rod 10 cm long (so l = 5 cm to the
