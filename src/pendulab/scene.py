@@ -14,6 +14,10 @@ A scene is data, never code::
     # length = "L0 + v0*t"           # variable-length: L(t)
     # mass = "m"                     # variable-length
 
+    [values]                         # optional: SI numbers for the scene's symbols
+    l = 0.05                         # a number, or an expression of numbers
+    omega = "2*pi*86"
+
     [products.equations]             # one table per product; keys are its options
 
 Every problem found is reported at once, one per line, each naming the file
@@ -29,7 +33,7 @@ from pathlib import Path
 from pendulab.errors import InputError, ParameterError, SceneError
 
 SYSTEMS = ("kapitza", "variable-length")
-TOP_KEYS = {"name", "system", "description", "parameters", "products"}
+TOP_KEYS = {"name", "system", "description", "parameters", "products", "values"}
 PARAMETERS = {
     "kapitza": {"body": "choice:rod,point,explicit", "inertia": "expr",
                 "drive": "expr", "angle": "choice:up,down"},
@@ -49,6 +53,7 @@ class Scene:
     parameters: dict = field(default_factory=dict)
     products: dict = field(default_factory=dict)
     raw: dict = field(default_factory=dict)
+    values: dict = field(default_factory=dict)  # [values]: {symbol name: SymPy number}
 
 
 class _Problems:
@@ -139,6 +144,7 @@ def parse_scene(data, path="<scene>"):
     if not isinstance(description, str):
         problems.add("description", "must be a string")
 
+    values = {}
     params = data.get("parameters", {})
     parsed = {}
     if not isinstance(params, dict):
@@ -177,12 +183,14 @@ def parse_scene(data, path="<scene>"):
         probe = _Probe()
         probe.scene = Scene(str(path), name, system, description, parsed, {}, data)
         try:
-            _stage_system(probe)
+            built = _stage_system(probe)
         except ParameterError as exc:
             for key, problem in exc.problems:
                 problems.add(f"parameters.{key}", problem)
         except InputError as exc:
             problems.add("parameters", str(exc))
+        else:
+            values = _values(data.get("values", {}), built, problems)
 
     products = data.get("products")
     chosen = {}
@@ -212,7 +220,49 @@ def parse_scene(data, path="<scene>"):
                 continue
             chosen[pname] = validate_options(module, given, where, problems)
     problems.raise_if_any()
-    return Scene(str(path), name, system, description, parsed, chosen, data)
+    return Scene(str(path), name, system, description, parsed, chosen, data, values)
+
+
+def _values(table, system, problems):
+    """The [values] table: {name: finite real SymPy number}; names must be the system's symbols."""
+    import math
+
+    import sympy as sp
+
+    from pendulab import symbols as S
+    from pendulab.exprs import parse
+
+    if not isinstance(table, dict):
+        problems.add("values", "must be a table of numbers, e.g. l = 0.05")
+        return {}
+    known = set().union(*(sp.sympify(e).free_symbols for e in (
+        system.lagrangian, getattr(system, "drive", 0), getattr(system, "length", 0),
+        getattr(system, "mass", 0))))
+    if system.name == "kapitza":  # I is the body's inertia; omega0^2 = m g l/I (000 eq. 3)
+        known = (known - {S.I}) | sp.sympify(system.inertia).free_symbols | {S.omega0}
+    known = {x.name for x in known - {S.t}}
+    out = {}
+    for key, value in sorted(table.items()):
+        where = f"values.{key}"
+        if key not in known:
+            problems.add(where, f"not a symbol of this scene's system (known: {', '.join(sorted(known))})")
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+            problems.add(where, "must be a number or an expression string")
+            continue
+        if isinstance(value, float) and not math.isfinite(value):
+            problems.add(where, f"must be finite, got {value!r}")
+            continue
+        try:
+            num = parse(str(value)) if isinstance(value, str) else sp.nsimplify(value, rational=True)
+        except InputError as exc:
+            problems.add(where, str(exc))
+            continue
+        if not (num.is_number and num.is_real and num.is_finite and num.is_positive):
+            problems.add(where, f"must evaluate to a finite positive number, got {value!r}")
+            continue
+        out[key] = num
+    return out
 
 
 def load_scene(path):

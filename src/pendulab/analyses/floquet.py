@@ -78,6 +78,9 @@ __all__ = [
     "is_stable",
     "trace_monodromy",
     "stability_map",
+    "map_stability",
+    "map_limits",
+    "first_band",
     "exponent",
     "METHODS",
     "SIZE_LIMITS",
@@ -1059,19 +1062,21 @@ def stability_limits(ratio, inertia_ratio=1, dps=None):
     """Exact limits (lower, upper) of a/l for the inverted pendulum to be stable.
 
     ratio = omega0/omega >= 0, inertia_ratio = I/(m l^2) > 0 (point mass 1,
-    uniform rod pivoted at an end 4/3).  Then theta0 = -4 ratio^2 (000 eq. 5) and
-    theta1 = 2 (a/l) / inertia_ratio (000 eq. 6); with q = -theta1 the first
-    stable band is a_0(q) < theta0 < b_1(|q|) (a_0 is even in q; b_1(|q|) =
-    a_1(-|q|)), so the lower limit solves a_0(q) = theta0 and the upper one
-    b_1(q) = theta0, each for q = 2 (a/l)/inertia_ratio.  Only this first band is
-    reported; for large ratio further, exponentially thin bands exist at much
-    larger a/l.
+    uniform rod pivoted at an end 4/3), for the source's drive a cos(omega t).
+    theta0 and theta1 come from the derivation
+    (:func:`pendulab.analyses.stability.body_map`: theta0 = -4 ratio^2, 000
+    eq. 5, and theta1 = 2 (a/l)/inertia_ratio, 000 eq. 6); the first stable
+    band of the Mathieu plane at that theta0 is :func:`first_band` (theta1
+    from a_0(q) = theta0 to b_1(|q|) = theta0), divided by theta1/(a/l).
+    Only this first band is reported; for large ratio further, exponentially
+    thin bands exist at much larger a/l.
 
     >>> lo, up = stability_limits(0, 1)
     >>> lo, round(up, 6)
     (0.0, 0.454...)
     """
-    dps = _check_dps(dps)
+    from pendulab.analyses.stability import body_map
+
     R, IR = _exact(ratio, "ratio"), _exact(inertia_ratio, "inertia_ratio")
     if R < 0:
         raise InputError(f"ratio = omega0/omega must be >= 0, got {ratio}")
@@ -1080,17 +1085,41 @@ def stability_limits(ratio, inertia_ratio=1, dps=None):
     if 4 * R * R > SIZE_LIMIT:
         raise InputError(f"ratio = omega0/omega must be <= {math.sqrt(SIZE_LIMIT / 4):g} "
                          f"(|theta0| = 4 ratio^2 <= {SIZE_LIMIT:g}), got {ratio}")
+    return map_limits(body_map(), {"w0_over_w": R, "inertia_ratio": IR}, dps,
+                      what=f"stability_limits({ratio})")
+
+
+def map_limits(pmap, point, dps=None, what="the limits"):
+    """(lower, upper) of a/l in the first stable band for a ParameterMap at ``point``.
+
+    ``pmap`` is a :class:`pendulab.analyses.stability.ParameterMap` of a
+    Mathieu drive whose theta1 is proportional to a/l; ``point`` gives the
+    other groups ({"w0_over_w": ..., "inertia_ratio": ...}; exact values such
+    as Fraction or decimal text are rounded afresh at each working precision).
+    theta0 and the scale (a/l)/theta1 are evaluated with the map's mpmath
+    function at the working precision, the band by :func:`first_band`.
+    """
+    dps = _check_dps(dps)
+    exact = {k: (v if isinstance(v, (Fraction, mpmath.mpf)) else _exact(v, k))
+             for k, v in point.items()}
     want = DOUBLE_DPS if dps is None else dps
     w = want + GUARD
     while True:
-        res = [_limits_mp(R, IR, ww) for ww in (w, w + 10)]
+        res = []
+        for ww in (w, w + 10):
+            with mpmath.workdps(ww):
+                args = {k: _mp(v) for k, v in exact.items()}
+                th0 = pmap.evaluate("theta0", args, "mpmath")
+                scale = abs(pmap.evaluate("scale", args, "mpmath"))
+                lo, up = _first_band_mp(th0, ww)
+                res.append((lo * scale, up * scale))
         with mpmath.workdps(w + 10):
             ok = all(abs(a - b) <= mpmath.mpf(10) ** (-(want + 2)) * max(1, abs(b))
                      for a, b in zip(res[0], res[1]))
         if ok:
             break
         if w > 4 * want + 100:
-            raise PrecisionError(f"stability_limits({ratio}) not resolved to {want} digits")
+            raise PrecisionError(f"{what} not resolved to {want} digits")
         w *= 2
     lower, upper = res[1]
     if dps is None:
@@ -1099,13 +1128,58 @@ def stability_limits(ratio, inertia_ratio=1, dps=None):
         return +lower, +upper
 
 
-def _limits_mp(R, IR, w):
+def first_band(theta0, dps=None):
+    """(lower, upper) |theta1| of the first stable band of 000 eq. 7 at a given theta0 < 1.
+
+    The band is a_0(q) < theta0 < b_1(|q|) with |q| = |theta1| (DLMF 28.2(v);
+    a_0 is even in q, b_1(|q|) = a_1(-|q|)): the lower end solves
+    a_0(q) = theta0 (0 when theta0 >= 0), the upper one b_1(q) = theta0, each
+    by Brent's method on the exact characteristic values.
+
+    >>> lo, up = first_band(-0.01)
+    >>> round(lo, 10), round(up, 10)
+    (0.1415759161, 0.9164371642)
+    >>> round(mathieu_a(0, lo), 12), round(mathieu_b(1, up), 12)   # on the two curves
+    (-0.01, -0.01)
+    """
+    dps = _check_dps(dps)
+    X0 = _exact(theta0, "theta0")
+    if X0 >= 1:
+        raise InputError(f"theta0 = {theta0} >= 1: the first stable band at theta0 >= 1 "
+                         "is not the one that starts at theta1 = 0")
+    if abs(X0) > SIZE_LIMIT:
+        raise InputError(f"|theta0| = {_size_text(X0)} is too large (limit {SIZE_LIMIT:g})")
+    want = DOUBLE_DPS if dps is None else dps
+    w = want + GUARD
+    while True:
+        res = []
+        for ww in (w, w + 10):
+            with mpmath.workdps(ww):
+                res.append(_first_band_mp(_mp(X0), ww))
+        with mpmath.workdps(w + 10):
+            ok = all(abs(a - b) <= mpmath.mpf(10) ** (-(want + 2)) * max(1, abs(b))
+                     for a, b in zip(res[0], res[1]))
+        if ok:
+            break
+        if w > 4 * want + 100:
+            raise PrecisionError(f"first_band({theta0}) not resolved to {want} digits")
+        w *= 2
+    lower, upper = res[1]
+    if dps is None:
+        return float(lower), float(upper)
+    with mpmath.workdps(want):
+        return +lower, +upper
+
+
+def _first_band_mp(th0, w):
+    """|q| at the ends of the first band at theta0 = th0 (an mpf, th0 < 1), at dps w."""
+    if th0 >= 1:
+        raise InputError(f"theta0 = {mpmath.nstr(th0, 8)} >= 1: the first stable band at "
+                         "theta0 >= 1 is not the one that starts at theta1 = 0")
     with mpmath.workdps(w):
-        th0 = -4 * _mp(R) ** 2
-        ir = _mp(IR)
         out = []
         for family in ("a_even", "b_odd"):
-            if family == "a_even" and th0 == 0:
+            if family == "a_even" and th0 >= 0:
                 out.append(mpmath.mpf(0))
                 continue
 
@@ -1120,9 +1194,9 @@ def _limits_mp(R, IR, w):
                 lo = mpmath.mpf(0)
                 hlo = -th0
             else:
-                hlo = h(lo)
+                hlo = h(lo) if lo > 0 else 1 - th0
             root, _ = _illinois(h, lo, Q, hlo, h(Q), mpmath.mpf(10) ** (-w) * Q)
-            out.append(root * ir / 2)
+            out.append(root)
         return tuple(out)
 
 
@@ -1464,10 +1538,28 @@ def stability_map(al_values, ratio_values, inertia_ratio=1.0):
     """
     import numpy as np
 
+    from pendulab.analyses.stability import body_map
+
     if not (isinstance(inertia_ratio, (int, float)) and inertia_ratio > 0):
         raise InputError(f"inertia_ratio must be a positive number, got {inertia_ratio!r}")
     al = np.asarray(al_values, dtype=float)
     ra = np.asarray(ratio_values, dtype=float)
     if al.ndim != 1 or ra.ndim != 1:
         raise InputError("al_values and ratio_values must be one-dimensional")
-    return is_stable(-4.0 * ra[:, None] ** 2, 2.0 * al[None, :] / inertia_ratio)
+    return map_stability(body_map(), al, ra, inertia_ratio=float(inertia_ratio))
+
+
+def map_stability(pmap, al_values, ratio_values, **groups):
+    """Stable/unstable map [ratio, a/l] of a Mathieu drive's ParameterMap (vectorised).
+
+    theta0, theta1 from the map's NumPy function at every grid point (the other
+    groups, e.g. inertia_ratio, fixed by ``groups``), then :func:`is_stable`.
+    """
+    import numpy as np
+
+    al = np.asarray(al_values, dtype=float)[None, :]
+    ra = np.asarray(ratio_values, dtype=float)[:, None]
+    point = dict(groups, a_over_l=al, w0_over_w=ra)
+    th0 = np.broadcast_to(pmap.evaluate("theta0", point), (ra.shape[0], al.shape[1]))
+    th1 = np.broadcast_to(pmap.evaluate("theta1", point), (ra.shape[0], al.shape[1]))
+    return is_stable(th0, th1)

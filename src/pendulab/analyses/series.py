@@ -814,8 +814,9 @@ def _branch_theta1(polys, x, target):
 def stability_interval_series(order, ratio, inertia_ratio):
     """(lower, upper) limits of a/l from the source's series at ``order`` (000 eq. 28 at order 2).
 
-    With theta0 = -4 ratio^2 (000 eq. 5), theta1 = 2 (a/l) / inertia_ratio
-    (000 eq. 6) and theta0 = nu^2 + sum_{n<=order} alpha_n theta1^n (000 eqs.
+    With theta0 and theta1 from the derivation (for the source's drive
+    theta0 = -4 ratio^2, 000 eq. 5, and theta1 = 2 (a/l) / inertia_ratio,
+    000 eq. 6; :func:`pendulab.analyses.stability.body_map`) and theta0 = nu^2 + sum_{n<=order} alpha_n theta1^n (000 eqs.
     20, 27), solve for x = nu^2 as the source does after eq. 27.  The branch of
     roots x that starts at x = theta0 for theta1 = 0 (the inverted position,
     minus sign in the source's formula for nu^2) is followed as theta1 grows,
@@ -839,12 +840,32 @@ def stability_interval_series(order, ratio, inertia_ratio):
     why the non-integer series cannot reach the exact upper limit, which lies
     at nu = 1, and :func:`stability_interval_integer_series` for one that can.
     """
-    import numpy as np
     _check_order(order, minimum=2)
     if order > 120:
         raise InputError(f"stability_interval_series: order {order} > 120 is not supported in double precision")
     rho, iota = _check_body(ratio, inertia_ratio)
-    target = -4.0 * rho * rho
+    target, scale = _map_point(rho, iota)
+    lower_t1, upper_t1 = interval_series_theta1(order, target)
+    lower = None if lower_t1 is None else float(lower_t1) * scale
+    upper = None if upper_t1 is None else float(upper_t1) * scale
+    return lower, upper
+
+
+def _map_point(rho, iota):
+    """theta0 and (a/l)/theta1 of the source's drive for this body, from the derivation."""
+    from pendulab.analyses.stability import map_point
+    target, scale = map_point(rho, iota)
+    return target, abs(scale)
+
+
+def interval_series_theta1(order, target):
+    """(lower, upper) theta1 of the stable interval at theta0 = ``target`` from the series.
+
+    The Mathieu-plane engine of :func:`stability_interval_series` (same
+    branch-following; None where the truncated branch has no such point).
+    """
+    import numpy as np
+    _check_order(order, minimum=2)
     polys = _alpha_polys_in_x(order)
 
     # lower: the branch crosses nu^2 = 0
@@ -869,9 +890,7 @@ def stability_interval_series(order, ratio, inertia_ratio):
             upper_t1 = max(-res.fun, prev[1])
             break
         before, prev = prev, (float(x), t)
-    lower = None if lower_t1 is None else float(lower_t1) * iota / 2
-    upper = None if upper_t1 is None else float(upper_t1) * iota / 2
-    return lower, upper
+    return lower_t1, upper_t1
 
 
 def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="warn"):
@@ -894,7 +913,17 @@ def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="wa
     _check_order(order)
     _check_on_domain(on_domain, ("raise", "warn", "omit"))
     rho, iota = _check_body(ratio, inertia_ratio)
-    target = -4.0 * rho * rho
+    target, scale = _map_point(rho, iota)
+    return tuple(None if q is None else q * scale
+                 for q in interval_integer_series_theta1(order, target, on_domain))
+
+
+def interval_integer_series_theta1(order, target, on_domain="warn"):
+    """(lower, upper) |theta1| with a_0 = target and b_1 = target from the DLMF 28.6 series.
+
+    The Mathieu-plane engine of :func:`stability_interval_integer_series`.
+    """
+    _check_on_domain(on_domain, ("raise", "warn", "omit"))
     limits = []
     for kind in ("a0", "b1"):
         s = characteristic_series(kind, order)
@@ -909,7 +938,7 @@ def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="wa
         if kind == "a0" and target == 0:
             root = 0.0
         else:
-            root = _first_root(f, 0.0, 3.0 * s.radius + 8 * rho * rho, 6000)
+            root = _first_root(f, 0.0, 3.0 * s.radius + 2 * abs(target), 6000)
         if root is not None and root >= s.radius:
             if on_domain == "omit":
                 root = None
@@ -917,5 +946,5 @@ def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="wa
                 _domain(f"{kind}: the limit Q = {root:g} lies beyond the radius of convergence "
                         f"{s.radius} (DLMF Table 28.6.1); the truncated series is unreliable there",
                         on_domain)
-        limits.append(None if root is None else root * iota / 2)
+        limits.append(root)
     return limits[0], limits[1]

@@ -281,7 +281,8 @@ def reference_limits(ratio, inertia_ratio=1):
     """Exact limits from scipy's characteristic values (an independent cross-check).
 
     The lower limit solves a_0(q) = theta0 and the upper b_1(q) = theta0 with
-    theta0 = -4 ratio^2 and a/l = q inertia_ratio/2 (000 eqs. 5-6;
+    theta0 and a/l = q/(theta1/(a/l)) from the derivation (:func:`body_map`;
+    theta0 = -4 ratio^2, a/l = q inertia_ratio/2, 000 eqs. 5-6;
     scipy.special.mathieu_a(0, q), mathieu_b(1, q)).  SciPy's characteristic
     values are trusted only for q <= 3 here (they are known to fail at large
     q, scipy issues 4479 and 14526); beyond that this raises.
@@ -290,7 +291,7 @@ def reference_limits(ratio, inertia_ratio=1):
     from scipy.special import mathieu_a, mathieu_b
 
     rho, r = check_ratio(ratio), check_inertia_ratio(inertia_ratio)
-    theta0 = -4 * rho * rho
+    theta0, scale = map_point(rho, r)
     q_max = 3.0
     f_low = lambda q: mathieu_a(0, q) - theta0  # noqa: E731
     f_up = lambda q: mathieu_b(1, q) - theta0  # noqa: E731
@@ -298,4 +299,277 @@ def reference_limits(ratio, inertia_ratio=1):
         raise InputError(f"omega0/omega = {rho} needs q > {q_max}, beyond the range trusted here")
     low = 0.0 if rho == 0 else brentq(f_low, 0.0, q_max, xtol=1e-15, rtol=1e-14)
     up = brentq(f_up, 0.0, q_max, xtol=1e-15, rtol=1e-14)
-    return low * r / 2, up * r / 2
+    return low * scale, up * scale
+
+
+# ---------------------------------------------------------------------------
+# The map (a/l, omega0/omega, ...) -> (theta0, theta1), read from the derivation
+# ---------------------------------------------------------------------------
+
+class ParameterMap:
+    """The dimensionless groups of a driven-pivot derivation and what they map to.
+
+    Built from the equations and canonical stages (never typed in):
+
+    * ``kind`` - the canonical stage's "mathieu", "hill" or "linear";
+    * Mathieu: ``theta0``, ``theta1`` - SymPy expressions in ``symbols``
+      (a_over_l, w0_over_w, and inertia_ratio when I is symbolic), from
+      :func:`pendulab.numerics.model.mathieu_parameters`; ``slope`` =
+      theta1/(a/l) when theta1 is proportional to a/l and theta0 does not
+      involve a/l (every drive of the form c(t) a), else None;
+    * Hill: ``system`` - the first-order system in tau
+      (:func:`pendulab.numerics.model.pivot_system`), whose linear part the
+      monodromy and Hill-determinant routes use.
+
+    ``values`` (scene numbers) are substituted after the groups, as in
+    :mod:`pendulab.numerics.model`.  The numeric functions are lambdified once.
+    """
+
+    def __init__(self, equations, form, values=None, drive=None):
+        import sympy as sp
+
+        from pendulab import symbols as S
+        from pendulab.numerics.model import mathieu_parameters, pivot_system
+
+        self.kind = form.kind
+        self.form = form
+        self.drive = drive if drive is not None else equations.system.drive
+        self.note = form.note
+        self.theta0 = self.theta1 = self.slope = self.scale = None
+        self.system = None
+        if form.kind == "mathieu":
+            self.theta0, self.theta1 = mathieu_parameters(equations, form, values=values)
+            names = self.theta0.free_symbols | self.theta1.free_symbols
+            slope = sp.simplify(self.theta1 / S.a_over_l)
+            if (not self.theta0.has(S.a_over_l) and not slope.has(S.a_over_l)
+                    and slope != 0):
+                self.slope = slope
+                self.scale = sp.simplify(1 / slope)  # a/l per unit theta1
+        elif form.kind == "hill":
+            self.system = pivot_system(equations, form, values=values)
+            names = set(self.system.params)
+        else:
+            names = set()
+        self.symbols = tuple(sorted(names | {S.a_over_l, S.w0_over_w}, key=lambda s: s.name))
+        self._fns = {}
+
+    def refuse(self, product, what):
+        """A one-line InputError: ``product`` cannot do ``what`` for this drive."""
+        raise InputError(f"{product}: no {what} for the drive {self.drive}: it gives a "
+                         f"{self.kind} equation (a periodic drive is needed)"
+                         + (f"; {self.note}" if self.note else ""))
+
+    def _fn(self, which, module):
+        import sympy as sp
+        key = (which, module)
+        if key not in self._fns:
+            expr = {"theta0": self.theta0, "theta1": self.theta1, "slope": self.slope,
+                    "scale": self.scale}[which]
+            self._fns[key] = sp.lambdify(self.symbols, expr, module)
+        return self._fns[key]
+
+    def _args(self, point):
+        names = {s.name for s in self.symbols}
+        unknown = sorted(set(point) - names)
+        if unknown:
+            raise InputError(f"unknown group(s) {', '.join(unknown)} (the map has "
+                             f"{', '.join(sorted(names))})")
+        # a/l may be left out where only theta0 or the scale is asked for (they do not
+        # involve it); every other group must be given
+        missing = sorted(names - set(point) - {"a_over_l"})
+        if missing:
+            raise InputError(f"the map needs a value for {', '.join(missing)}")
+        return [point.get(s.name, 0) for s in self.symbols]
+
+    def evaluate(self, which, point, module="numpy"):
+        """theta0, theta1 or slope at ``point`` ({group name: value}) with NumPy or mpmath."""
+        if self.kind != "mathieu":
+            raise InputError(f"the drive gives a {self.kind} equation: it has no {which}")
+        if which in ("slope", "scale") and self.slope is None:
+            raise InputError(f"theta1 = {self.theta1} is not proportional to a/l")
+        return self._fn(which, module)(*self._args(point))
+
+    def is_source_map(self, inertia_ratio):
+        """True when theta0, theta1 equal those of the drive a cos(omega t) for this body."""
+        if self.kind != "mathieu":
+            return False
+        ref = body_map()
+        import sympy as sp
+        from pendulab import symbols as S
+        sub = {S.inertia_ratio: sp.nsimplify(inertia_ratio)}
+        return (sp.simplify(self.theta0 - ref.theta0.subs(sub)) == 0
+                and sp.simplify(self.theta1.subs(sub) - ref.theta1.subs(sub)) == 0)
+
+
+@functools.lru_cache(maxsize=None)
+def body_map():
+    """The map of the source's drive a cos(omega t) with I symbolic (derived once, cached).
+
+    theta0 and theta1 are then functions of a_over_l, w0_over_w and
+    inertia_ratio = I/(m l^2); every public function taking (ratio,
+    inertia_ratio) evaluates it.
+
+    >>> m = body_map()
+    >>> m.theta0, m.theta1
+    (-4*w0_over_w**2, 2*a_over_l/inertia_ratio)
+    """
+    from pendulab.canonical import periodic_form
+    from pendulab.equations import derive
+    from pendulab.systems import DrivenPivot
+
+    eqs = derive(DrivenPivot(body="explicit"))
+    return ParameterMap(eqs, periodic_form(eqs))
+
+
+def scene_map(ctx):
+    """The ParameterMap of a scene's pipeline context (its equations and canonical stages)."""
+    return ParameterMap(ctx.get("equations"), ctx.get("canonical"))
+
+
+def map_point(ratio, inertia_ratio, pmap=None):
+    """(theta0, scale) in double precision at omega0/omega = ratio for ``pmap`` (default the body map).
+
+    ``scale`` = (a/l)/theta1 (inertia_ratio/2 for the source's drive): a limit
+    theta1* of the Mathieu plane is the limit a/l = scale theta1*.
+    """
+    pmap = body_map() if pmap is None else pmap
+    point = {"w0_over_w": ratio, "inertia_ratio": inertia_ratio}
+    point = {k: v for k, v in point.items()
+             if v is not None and k in {s.name for s in pmap.symbols}}
+    return float(pmap.evaluate("theta0", point, "math")), float(pmap.evaluate("scale", point, "math"))
+
+
+#: Methods that live in the Mathieu plane (functions of theta0 and theta1 only):
+#: they apply to any Mathieu drive through its derived map.
+MATHIEU_PLANE = ("exact", "eq12", "eq28", "series", "integer-series")
+#: Scan of a/l for a Hill drive's first stable interval (see :func:`hill_limits`).
+HILL_SCAN_TOP = 2.0
+HILL_SCAN_STEP = 0.005
+
+
+@functools.lru_cache(maxsize=None)
+def _eq12_theta1():
+    """theta1(theta0) at the ends of eq. 12's interval, from the Mathieu-plane eq. 11."""
+    import sympy as sp
+
+    from pendulab import symbols as S
+    from pendulab.analyses import phelps_hunter as ph
+
+    rhs = ph.small_parameter_exponent(mathieu=True).rhs
+    out = []
+    for level in (0, 1):
+        roots = [r for r in sp.solve(sp.Eq(rhs, level), S.theta1)
+                 if r.subs(S.theta0, -sp.Rational(1, 100)).is_positive]
+        (root,) = roots
+        out.append(sp.lambdify(S.theta0, root, "math"))
+    return tuple(out)
+
+
+def _mathieu_plane(kind, order, theta0):
+    """(lower, upper) |theta1| of the first stable interval at theta0 by a Mathieu-plane method."""
+    if kind == "exact":
+        from pendulab.analyses.floquet import first_band
+        return first_band(theta0)
+    if kind == "eq12":
+        lo, up = _eq12_theta1()
+        return lo(theta0) if theta0 <= 0 else 0.0, up(theta0)
+    from pendulab.analyses import series
+    if kind in ("eq28", "series"):
+        return series.interval_series_theta1(2 if kind == "eq28" else order, theta0)
+    return series.interval_integer_series_theta1(order, theta0, on_domain="omit")
+
+
+def _applicable(pmap, method):
+    """(kind, order) of ``method`` if it applies to this drive; a one-line refusal otherwise."""
+    kind, order = parse_method(method)
+    if pmap.kind == "linear":
+        pmap.refuse("stability limits", f"limits of a/l by method {method!r}")
+    if pmap.kind == "hill":
+        if kind != "exact":
+            raise InputError(f"method {method!r} is derived for Mathieu's equation; the drive "
+                             f"{pmap.drive} gives Hill's equation (only 'exact' applies)")
+    elif kind not in MATHIEU_PLANE:
+        raise InputError(f"method {method!r} is derived by averaging the drive a*cos(omega*t); "
+                         f"this scene's drive is {pmap.drive} (use the Mathieu-plane methods "
+                         f"{', '.join(MATHIEU_PLANE)})")
+    elif pmap.slope is None:
+        raise InputError(f"theta1 = {pmap.theta1} is not proportional to a/l: the limits of a/l "
+                         "are not defined by one band edge each")
+    return kind, order
+
+
+def scene_limits(pmap, ratio, method="exact", groups=None):
+    """(lower, upper) of a/l at omega0/omega = ``ratio`` for a scene's ParameterMap.
+
+    Mathieu drive: the Mathieu-plane methods (:data:`MATHIEU_PLANE`) at the
+    map's theta0, divided by theta1/(a/l); eq19 and eq19-corrected, derived by
+    averaging the source's drive a cos(omega t), only when the map is that
+    drive's.  Hill drive: ``"exact"`` only, by :func:`hill_limits`.  Other
+    drives: a one-line refusal.  ``groups`` fixes further groups (e.g.
+    {"inertia_ratio": 1}) when the body's inertia is symbolic.
+    """
+    rho = check_ratio(ratio)
+    kind, order = _applicable(pmap, method)
+    groups = dict(groups or {})
+    if pmap.kind == "hill":
+        return hill_limits(pmap, rho, groups)
+    theta0, scale = map_point(rho, groups.get("inertia_ratio"), pmap)
+    if theta0 >= 1:
+        raise InputError(f"theta0 = {theta0:.6g} >= 1 at omega0/omega = {rho}: the first stable "
+                         "band is not the one that starts at a/l = 0")
+    lo, up = _mathieu_plane(kind, order, theta0)
+    scale = abs(scale)
+    return (None if lo is None else float(lo) * scale), (None if up is None else float(up) * scale)
+
+
+def scene_comparison(pmap, ratios, methods, groups=None):
+    """:func:`comparison`'s table for a scene's ParameterMap (see :func:`scene_limits`)."""
+    grid = [check_ratio(r) for r in ratios]
+    names = []
+    for method in methods:
+        _applicable(pmap, method)
+        if method not in names:
+            names.append(method)
+    table = {m: [list(scene_limits(pmap, rho, m, groups)) for rho in grid] for m in names}
+    return {"w0_over_w": grid, "methods": names, "limits": table}
+
+
+def hill_limits(pmap, ratio, groups=None, top=HILL_SCAN_TOP, step=HILL_SCAN_STEP):
+    """First stable interval (lower, upper) of a/l for a Hill drive at omega0/omega = ``ratio``.
+
+    Bisection on the Floquet verdict along a/l: the traces of the monodromy
+    matrix (:func:`pendulab.numerics.monodromy.traces_along`, DOP853 at rtol
+    1e-13 on the derived linear system) on a/l = 0, step, ..., top bracket the
+    first a/l where |tr M| < 2 and the first after it where |tr M| >= 2; each
+    end is then refined by Brent's method on |tr M| - 2 to 1e-12.  An
+    interval narrower than ``step`` can be missed; ``upper`` is None when the
+    interval reaches beyond ``top``; (None, None) when no stable a/l is found
+    up to ``top``.
+    """
+    import numpy as np
+    from scipy.optimize import brentq
+
+    from pendulab.numerics.monodromy import traces_along
+
+    fos = pmap.system
+    params = {"w0_over_w": ratio, **(groups or {})}
+    names = {s.name for s in fos.params}
+    params = {k: v for k, v in params.items() if k in names}
+    xs = np.linspace(0.0, top, int(round(top / step)) + 1)
+    tr = traces_along(fos, params, "a_over_l", xs)
+    stable = np.abs(tr) < 2
+
+    def g(x):
+        return abs(float(traces_along(fos, params, "a_over_l", [x])[0])) - 2
+
+    first = np.nonzero(stable)[0]
+    if first.size == 0:
+        return None, None
+    i = int(first[0])
+    lower = 0.0 if i == 0 else brentq(g, xs[i - 1], xs[i], xtol=1e-12, rtol=1e-13)
+    after = np.nonzero(~stable[i:])[0]
+    if after.size == 0:
+        return float(lower), None
+    j = i + int(after[0])
+    upper = brentq(g, xs[j - 1], xs[j], xtol=1e-12, rtol=1e-13)
+    return float(lower), float(upper)

@@ -180,13 +180,34 @@ def produce(ctx, options):
     from pendulab.errors import SceneError
     from pendulab.io import canonical_json
 
+    from pendulab.analyses.stability import scene_comparison, scene_map
+
     try:
         ratio_expr = _inertia_ratio(ctx.get("system"))
         ratios = grid(options["points"], options["max_ratio"])
-        table = comparison(ratios, float(ratio_expr), options["methods"])
+        # the scene's own map (a/l, omega0/omega) -> the canonical stage
+        pmap = scene_map(ctx)
+        if pmap.kind == "linear":
+            pmap.refuse("the stability product", "limits of a/l")
+        source = pmap.is_source_map(ratio_expr)
+        if source:
+            table = comparison(ratios, float(ratio_expr), options["methods"])
+        else:
+            table = scene_comparison(pmap, ratios, options["methods"])
     except InputError as exc:
         raise SceneError(ctx.scene.path, "products.stability", str(exc)) from None
     doc = document(table, ratio_expr, ctx.scene.name)
+    if not source:
+        from pendulab.exprs import dump_expr
+        doc["formulas"] = {}
+        doc["drive"] = dump_expr(pmap.drive)
+        doc["kind"] = pmap.kind
+        if pmap.kind == "mathieu":
+            doc["theta0"], doc["theta1"] = dump_expr(pmap.theta0), dump_expr(pmap.theta1)
+        doc["note"] += ("; this drive's limits come from its own derived map: Mathieu-plane "
+                        "methods at its theta0, theta1" if pmap.kind == "mathieu" else
+                        "; Hill's equation: exact limits by the Floquet verdict of the "
+                        "monodromy matrix along a/l (DOP853), double precision")
     files = {
         "stability.json": canonical_json(doc),
         "stability.tex": latex_table(doc),
