@@ -172,10 +172,37 @@ class DrivenPivot:
         """V = m g y (000, before the Lagrangian)."""
         return S.m * S.g * self.centre_of_mass[1]
 
+    #: The undefined function that stands for the drive in :meth:`lagrangian_template`.
+    DRIVE = sp.Function("_y0", real=True)(S.t)
+
+    def lagrangian_template(self):
+        """L = T - V with the drive kept as the undefined function :attr:`DRIVE`.
+
+        sin^2 theta is written 1 - cos^2 theta and the result multiplied out,
+        which cancels the m l^2 theta'^2 terms (000, the Lagrangian after
+        eq. 2).  The work does not depend on the drive: put it in with
+        :meth:`with_drive`.
+        """
+        template = DrivenPivot.__new__(DrivenPivot)
+        for name in ("body", "angle", "inertia_value"):
+            object.__setattr__(template, name, getattr(self, name))
+        object.__setattr__(template, "drive", self.DRIVE)
+        th = self.coordinate
+        lag = sp.expand(template.kinetic_energy - template.potential_energy)
+        return sp.expand(lag.subs(sp.sin(th)**2, 1 - sp.cos(th)**2))
+
+    def with_drive(self, expr):
+        """``expr`` (from :meth:`lagrangian_template`) with the scene's drive put in, multiplied out."""
+        return sp.expand(expr.subs(self.DRIVE, self.drive).doit())
+
     @property
     def lagrangian(self):
-        """L = T - V, simplified (000, the Lagrangian after eq. 2)."""
-        return sp.expand(sp.trigsimp(sp.expand(self.kinetic_energy - self.potential_energy)))
+        """L = T - V, simplified (000, the Lagrangian after eq. 2).
+
+        The drive's own trigonometric terms are left as the user wrote them
+        (only multiplied out); see :meth:`lagrangian_template`.
+        """
+        return self.with_drive(self.lagrangian_template())
 
     @property
     def inverted_position(self):
