@@ -153,6 +153,8 @@ def expanded_terms(expr, cap=MAX_EXPANDED_TERMS):
             if b > 1 and x.is_Integer:
                 k = abs(int(x))
                 n = comb(k + b - 1, b - 1) if b <= cap else cap + 1
+                if n <= cap and x < 0:
+                    n = 1  # a denominator: one factor of each term, multiplied out on its own
             else:
                 n = b
         else:
@@ -160,7 +162,7 @@ def expanded_terms(expr, cap=MAX_EXPANDED_TERMS):
                 est(a)
             n = 1
         if n > cap:
-            raise InputError(f"{sp.sstr(e)[:40]} would have about {_rough(n, cap)} terms "
+            raise InputError(f"{sp.sstr(e)[:40]} would have {_rough(n, cap)} terms "
                              f"when multiplied out (limit {cap})")
         return n
     return est(expr)
@@ -169,7 +171,7 @@ def expanded_terms(expr, cap=MAX_EXPANDED_TERMS):
 def _rough(n, cap):
     if n == cap + 1:
         return f"more than {cap}"
-    return f"{float(n):.2g}" if n < 10**15 else f"10^{len(str(n)) - 1}"
+    return f"about {float(n):.2g}" if n < 10**15 else f"about 10^{len(str(n)) - 1}"
 
 
 def _not_finite(expr):
@@ -276,17 +278,23 @@ class _Builder:
 
     def _BinOp(self, node, d):
         op = node.op
+        # Folded left to right with the binary operators, exactly as Python would
+        # (2*(nu - 1) distributes to 2*nu - 2 only as a binary product).
         if isinstance(op, (ast.Add, ast.Sub)):
-            return sp.Add(*[t if sign > 0 else -t for sign, t in self._chain(node, d, ast.Add, ast.Sub)])
+            (_, value), *rest = self._chain(node, d, ast.Add, ast.Sub)
+            for sign, term in rest:
+                value = value + term if sign > 0 else value - term
+            return value
         if isinstance(op, (ast.Mult, ast.Div)):
-            factors = []
-            for sign, f in self._chain(node, d, ast.Mult, ast.Div):
+            (_, value), *rest = self._chain(node, d, ast.Mult, ast.Div)
+            for sign, factor in rest:
                 if sign < 0:
-                    if f == 0:
+                    if factor == 0:
                         raise InputError("division by zero in expression")
-                    f = 1 / f
-                factors.append(f)
-            return sp.Mul(*factors)
+                    value = value / factor
+                else:
+                    value = value * factor
+            return value
         x = self.build(node.left, d)
         y = self.build(node.right, d)
         if isinstance(op, ast.BitXor):

@@ -8,9 +8,12 @@ the outward swings around it, and the cross-product identity's residual.
 
 from pendulab.io import canonical_json
 
+from pendulab.limits import option as _limited
+
+#: Type, default, range and help from pendulab.limits.LIMITS.
 OPTIONS = {
-    "count": (int, 8, "how many quarter periods"),
-    "dps": (int, 30, "decimal digits of the zeros and durations"),
+    "count": _limited("quarter_periods.count"),
+    "dps": _limited("quarter_periods.dps"),
 }
 SYSTEMS = ("variable-length",)
 
@@ -22,6 +25,9 @@ def produce(ctx, options):
     from pendulab.errors import InputError
     if not ctx.get("system").is_linear_length:
         raise InputError("quarter_periods needs L(t) = L0 + v0*t")
+    from pendulab import limits
+    for key in ("count", "dps"):
+        limits.check(f"quarter_periods.{key}", options[key], label=f"quarter_periods: {key}")
     dps = options["dps"]
     periods = quarter_periods(options["count"], dps)
     verdict = toward_swings_are_longer(periods)
