@@ -438,7 +438,7 @@ def latex(expr, **settings):
 #: Most distinct frequencies a trigonometric polynomial may have (a drive
 #: a1 cos(omega t) + ... + aN cos(N omega t) has N; its coefficient in the
 #: equation N as well, cos(omega t)**N has N + 1 with the constant).
-MAX_HARMONICS = 64
+from pendulab.limits import MAX_HARMONICS  # noqa: E402  (kept with the option ranges)
 
 
 class TooManyHarmonics(InputError):

@@ -31,6 +31,10 @@ from fractions import Fraction
 
 from pendulab.errors import InputError
 
+#: Most distinct frequencies a drive (a trigonometric polynomial in t) may have:
+#: 64 harmonics derive in about 6 s (docs/scenes.md, "Limits").
+MAX_HARMONICS = 64
+
 LIMITS = {
     # product "floquet" (and ``pendulab floquet --dps``)
     "floquet.dps": (int, 1, 100, 30,
@@ -176,7 +180,7 @@ def floquet_seconds(points, ratios, dps, method):
     return total
 
 
-def work_problem(product, options):
+def work_problem(product, options, what="the points and ratios asked"):
     """A one-line problem when ``options`` of ``product`` would pass :data:`WORK_BUDGET_SECONDS`."""
     if product != "floquet":
         return None
@@ -188,6 +192,7 @@ def work_problem(product, options):
     seconds = floquet_seconds(points, ratios, dps, options.get("method", "hill"))
     if seconds <= WORK_BUDGET_SECONDS:
         return None
-    return (f"the points and ratios asked would take about {seconds:.0f} s by the cost model "
-            f"of pendulab.limits (limit {WORK_BUDGET_SECONDS} s): ask for fewer, a lower dps, "
-            "smaller |theta0| + 2|theta1|, or method 'hill'")
+    fewer = "fewer points or ratios, " if len(points) + len(ratios) > 1 else ""
+    return (f"{what} would take about {seconds:.1f} s by the cost model of pendulab.limits "
+            f"(limit {WORK_BUDGET_SECONDS} s): ask for {fewer}a lower dps, a smaller "
+            "|theta0| + 2|theta1| or method 'hill'")
