@@ -53,7 +53,7 @@ LIMITS = {
                      "'nu' for 000 eqs. 20-22, and integer kinds 'a0', 'a1', 'b1', 'b2', ... "
                      "(DLMF 28.6)"),
     # product "stability"
-    "stability.points": (int, 2, 1001, 21,
+    "stability.points": (int, 2, 401, 21,
                          "number of omega0/omega values, evenly spaced in [0, max_ratio]"),
     "stability.max_ratio": ("fraction", 0, 10, "1",
                             "largest omega0/omega of the grid (a decimal or fraction)"),
