@@ -48,6 +48,9 @@ def check_request(order, kinds, where="series"):
                         f"got {len(kinds)}")
     seen = set()
     for kind in kinds:
+        if not isinstance(kind, str):
+            problems.append(f"each kind must be a string such as 'nu' or 'a0', got {kind!r}"[:80])
+            continue
         if kind in seen:
             problems.append(f"kind {kind!r} is listed twice")
         seen.add(kind)
