@@ -292,14 +292,27 @@ def test_subprocess_scenes_fail_with_one_line(tmp_path, name, text, fragment):
     assert not (tmp_path / "out").exists()
 
 
-@pytest.mark.parametrize("args, fragment", [
-    (["derive", "kapitza", "--drive", "inf"], "'inf' is not allowed"),
-    (["derive", "kapitza", "--drive", "Rational(1, 0)*cos(t)"], "division by zero"),
-    (["derive", "kapitza", "--drive", "Eq(t, 1)"], "a relation"),
-    (["floquet", "--theta0", "0.1", "--theta1", "0.1", "--dps", "20000"], "--dps"),
-])
-def test_subprocess_command_lines_fail_with_one_line(tmp_path, args, fragment):
-    res = _subprocess(args, tmp_path)
+def test_subprocess_command_line_fails_with_one_line(tmp_path):
+    res = _subprocess(["derive", "kapitza", "--drive", "inf"], tmp_path)
     assert res.returncode == 2 and res.stdout == "" and "Traceback" not in res.stderr
     lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("pendulab: error: ")
+    assert "'inf' is not allowed" in lines[0]
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["derive", "kapitza", "--drive", "Rational(1, 0)*cos(t)"], "division by zero"),
+    (["derive", "kapitza", "--drive", "Eq(t, 1)"], "a relation"),
+    (["derive", "kapitza", "--drive", "nan"], "'nan' is not allowed"),
+    (["derive", "kapitza", "--drive", "-" * 3990 + "a"], "nested too deeply"),
+    (["floquet", "--theta0", "0.1", "--theta1", "0.1", "--dps", "20000"], "--dps"),
+    (["floquet", "--theta0", "-1/5", "--theta1", "-1e-3", "--dps", "15"], None),
+])
+def test_issue_command_lines(argv, fragment):
+    code, out, err = run_cli(argv)
+    if fragment is None:
+        assert code == 0 and err == "" and "lambda" in out
+        return
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("pendulab: error: ") and fragment in lines[0]

@@ -51,35 +51,38 @@ def _format_everywhere(parser):
                 stack.extend(action.choices.values())
 
 
-def _value_options(parser):
-    """Option strings (of all sub-commands) that take a value."""
-    found = set()
+def _option_strings(parser):
+    """(all option strings, those that take a value) of ``parser`` and its sub-commands."""
+    every, valued = set(), set()
     stack = [parser]
     while stack:
         p = stack.pop()
         for action in p._actions:
             if isinstance(action, argparse._SubParsersAction):
                 stack.extend(action.choices.values())
-            elif action.option_strings and action.nargs != 0:
-                found.update(s for s in action.option_strings if s.startswith("--"))
-    return found
+            elif action.option_strings:
+                every.update(action.option_strings)
+                if action.nargs != 0:
+                    valued.update(action.option_strings)
+    return every, valued
 
 
-def join_negative_values(argv, value_options):
+def join_negative_values(argv, value_options, known_options=()):
     """``["--theta0", "-1/5"]`` -> ``["--theta0=-1/5"]`` for options that take a value.
 
     argparse reads a token that starts with '-' (other than a plain negative
     decimal) as an option, so ``--theta0 -1/5`` would fail with "expected one
-    argument".  pendulab has no short options but -h, so a token that starts
-    with a single '-' after such an option is its value.
+    argument".  After an option that takes a value, a token that starts with
+    '-' and is not one of ``known_options`` (nor ``--``) is that value.
     """
+    known = set(known_options)
     out = []
     i = 0
     while i < len(argv):
         tok = argv[i]
         nxt = argv[i + 1] if i + 1 < len(argv) else None
-        if (tok in value_options and nxt is not None and nxt.startswith("-")
-                and not nxt.startswith("--") and nxt != "-h" and len(nxt) > 1):
+        if (tok in value_options and nxt is not None and nxt.startswith("-") and nxt != "--"
+                and nxt.split("=", 1)[0] not in known and len(nxt) > 1):
             out.append(f"{tok}={nxt}")
             i += 2
             continue
@@ -107,7 +110,8 @@ def main(argv=None):
     from pendulab.errors import PendulabError
     parser = make_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
-    args = parser.parse_args(join_negative_values(argv, _value_options(parser)))
+    every, valued = _option_strings(parser)
+    args = parser.parse_args(join_negative_values(argv, valued, every))
     try:
         return int(args.func(args) or 0)
     except PendulabError as exc:
