@@ -180,8 +180,42 @@ def floquet_seconds(points, ratios, dps, method):
     return total
 
 
+#: Seconds per grid point of each stability method (fitted from above to measurements,
+#: docs/scenes.md): fixed methods, then series:N ~ 0.005 + 0.0025 N**1.4 and
+#: integer-series:N ~ 0.002 + 0.0002 N.
+STABILITY_METHOD_SECONDS = {"exact": 0.08, "eq12": 0.002, "eq19": 0.002, "eq19-corrected": 0.002,
+                            "eq28": 0.002}
+
+
+def stability_seconds(points, methods):
+    """Estimated seconds of the stability product: ``points`` grid values times each method."""
+    per_point = 0.0
+    for method in methods:
+        if not isinstance(method, str):
+            continue
+        kind, _, order = method.partition(":")
+        n = int(order) if order.isdigit() else 0
+        if kind == "series":
+            per_point += 0.005 + 0.0025 * n ** 1.4
+        elif kind == "integer-series":
+            per_point += 0.002 + 0.0002 * n
+        else:
+            per_point += STABILITY_METHOD_SECONDS.get(method, 0.0)
+    return points * per_point
+
+
 def work_problem(product, options, what="the points and ratios asked"):
     """A one-line problem when ``options`` of ``product`` would pass :data:`WORK_BUDGET_SECONDS`."""
+    if product == "stability":
+        points, methods = options.get("points"), options.get("methods")
+        if not isinstance(points, int) or not isinstance(methods, list):
+            return None
+        seconds = stability_seconds(points, methods)
+        if seconds <= WORK_BUDGET_SECONDS:
+            return None
+        return (f"{points} points with these methods would take about {seconds:.1f} s by the "
+                f"cost model of pendulab.limits (limit {WORK_BUDGET_SECONDS} s): ask for fewer "
+                "points or lower series orders")
     if product != "floquet":
         return None
     points, ratios = options.get("points") or [], options.get("ratios") or []

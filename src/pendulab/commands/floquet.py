@@ -35,8 +35,12 @@ def run(args):
 
     from pendulab import limits
     from pendulab.errors import InputError
+    from pendulab.analyses.floquet import SIZE_LIMITS, _check_size, _exact
     if args.dps is not None:
         limits.check("floquet.dps", args.dps, label="--dps")
+    # the numbers and the method's size limit first (their own messages), then the work
+    _check_size(_exact(args.theta0, "theta0"), _exact(args.theta1, "theta1"),
+                SIZE_LIMITS[args.method], f"method {args.method!r}")
     work = limits.work_problem("floquet", {"points": [[args.theta0, args.theta1]], "ratios": [],
                                            "dps": args.dps, "method": args.method},
                                what="this point")

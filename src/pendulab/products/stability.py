@@ -72,6 +72,11 @@ def check_options(options):
             parse_method(method)
         except InputError as exc:
             problems.append(str(exc))
+    if not problems:
+        from pendulab.limits import work_problem
+        work = work_problem("stability", options)
+        if work:
+            problems.append(work)
     if problems:
         err = InputError("; ".join(problems))
         err.problems = problems
