@@ -294,10 +294,10 @@ def _first_zero(length):
             if certain:
                 return min(certain, key=float), True
             return found[0] if found else None
-        if not poly.free_symbols - {t}:
+        if not poly.free_symbols - {t} and poly.degree() <= 8:
             roots = [r for r in poly.real_roots() if r.is_positive]
             return (min(roots, key=float), True) if roots else None
-        return None
+        # higher degrees (t**999: exact real roots would take minutes) are scanned below
     const, rest = length.as_independent(t, as_Add=False)
     if const.is_positive is not True or rest.free_symbols != {t}:
         return None
@@ -306,30 +306,32 @@ def _first_zero(length):
     ts = np.linspace(0, LENGTH_SCAN_END, 20001)[1:]
     with np.errstate(all="ignore"):
         ys = np.broadcast_to(np.asarray(f(ts), dtype=float), ts.shape)
-    if not np.all(np.isfinite(ys)):
+    if not np.all(np.isfinite(ys)):  # overflow or a pole: look only before it
         k = int(np.argmin(np.isfinite(ys)))
-        return sp.Float(ts[k], 6), True
-    scale = float(np.max(np.abs(ys))) or 1.0
+        ts, ys = ts[:k], ys[:k]
+        if ts.size < 3:
+            return None
+    scale = abs(float(rest.subs(t, 0))) or 1.0  # |L(0)| / const, positive (checked before)
     mags = np.abs(ys)
     crossing = np.sign(ys[1:]) != np.sign(ys[:-1])
-    # a zero it touches without crossing (1 + cos t): an interior minimum of |L| near 0
+    # a zero it touches without crossing (1 + cos t): a strict interior minimum of |L| near 0
     touching = np.zeros_like(crossing)
-    touching[1:] = ((mags[1:-1] <= mags[:-2]) & (mags[1:-1] <= mags[2:])
-                    & (mags[1:-1] < 1e-5 * scale))
-    hits = np.nonzero(crossing | touching)[0]
-    if hits.size == 0:
-        return None
-    k = int(hits[0])
-    if not crossing[k]:
-        return sp.Float(ts[k], 6), True
-    lo, hi = float(ts[k]), float(ts[k + 1])
-    for _ in range(60):
-        mid = (lo + hi) / 2
-        if np.sign(f(mid)) == np.sign(f(lo)):
-            lo = mid
-        else:
-            hi = mid
-    return sp.Float(hi, 6), True
+    touching[1:] = ((mags[1:-1] < mags[:-2]) & (mags[1:-1] < mags[2:])
+                    & (mags[1:-1] < 1e-4 * scale))
+    for k in np.nonzero(crossing | touching)[0]:
+        k = int(k)
+        if not crossing[k]:
+            return sp.Float(ts[k], 6), True
+        lo, hi = float(ts[k]), float(ts[k + 1])
+        for _ in range(60):
+            mid = (lo + hi) / 2
+            if np.sign(f(mid)) == np.sign(f(lo)):
+                lo = mid
+            else:
+                hi = mid
+        if abs(float(f(hi))) <= 1e-6 * scale:  # a zero, not a pole (3 + tan t changes sign at pi/2)
+            return sp.Float(hi, 6), True
+    return None
 
 
 def length_zero_note(system):
@@ -419,7 +421,8 @@ class VariableLength:
         """The first time t > 0 at which L(t) = 0, as ``(t, certain)``; None if none is found.
 
         A polynomial length is solved exactly (degree <= 2, symbolic
-        coefficients allowed) or by its real roots (numeric coefficients);
+        coefficients allowed) or by its real roots (numeric coefficients,
+        degree <= 8);
         ``certain`` is False when the root is positive only for some values
         of the symbols.  Any other length whose only variable is t (after
         positive constant factors are taken out: L0*cos(t)) is scanned on
