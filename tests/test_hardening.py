@@ -247,6 +247,9 @@ def test_help_has_no_none_or_duplicate_defaults(argv, capsys):
 
 
 def test_floquet_help_names_theta_and_states_the_limits(capsys):
+    from pendulab.analyses.floquet import SIZE_LIMITS
+    from pendulab.commands import floquet
+    assert floquet.SIZES == ", ".join(f"{v:g} ({k})" for k, v in SIZE_LIMITS.items())
     text = " ".join(_help("floquet", capsys=capsys).split())
     assert " X " not in text and " Y " not in text and "THETA0" in text
     assert f"decimal digits, {limits.describe('floquet.dps')}" in text

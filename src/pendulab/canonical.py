@@ -2,8 +2,11 @@
 
 Driven pivot: with tau = omega t / 2 (000, before eq. 5) the linearised
 equation becomes theta'' + P(tau) theta = 0.  The periodic coefficient is
-analysed exactly: it is rewritten as a finite sum of exponentials
-exp(i k tau), and
+analysed exactly: it is written as a finite sum of exponentials
+exp(i k tau), straight from its sines and cosines (products of the spectra
+of the factors, :func:`pendulab.exprs.trig_spectrum`; no rewrite to
+exponentials and no simplify of the whole, so the work grows like the square
+of the number of harmonics, at most :data:`pendulab.limits.MAX_HARMONICS`), and
 
 * only k in {0, +-2}: Mathieu's equation theta'' + (theta0 + 2 theta1 cos 2tau)
   theta = 0 (000 eq. 7), with theta0 and theta1 read off (000 eqs. 5-6); a
