@@ -2,8 +2,11 @@
 
 Driven pivot: with tau = omega t / 2 (000, before eq. 5) the linearised
 equation becomes theta'' + P(tau) theta = 0.  The periodic coefficient is
-analysed exactly: it is rewritten as a finite sum of exponentials
-exp(i k tau), and
+analysed exactly: it is written as a finite sum of exponentials
+exp(i k tau), straight from its sines and cosines (products of the spectra
+of the factors, :func:`pendulab.exprs.trig_spectrum`; no rewrite to
+exponentials and no simplify of the whole, so the work grows like the square
+of the number of harmonics, at most :data:`pendulab.limits.MAX_HARMONICS`), and
 
 * only k in {0, +-2}: Mathieu's equation theta'' + (theta0 + 2 theta1 cos 2tau)
   theta = 0 (000 eq. 7), with theta0 and theta1 read off (000 eqs. 5-6); a
@@ -26,6 +29,7 @@ import sympy as sp
 
 from pendulab import symbols as S
 from pendulab.errors import InputError
+from pendulab.exprs import size, trig_spectrum
 
 #: The length used as independent variable (002 eqs. 5-7).
 Lvar = S.Lvar
@@ -60,32 +64,32 @@ class PeriodicForm:
     frequency: sp.Expr = S.omega
 
 
-def _as_exponentials(expr):
-    """``expr`` with trigonometric functions as exponentials, products of them combined."""
-    return sp.expand(sp.powsimp(sp.expand(expr.rewrite(sp.exp)), combine="exp"))
-
-
 def _exponential_spectrum(expr, var):
     """Write ``expr`` as sum c_k exp(i k var); return {k: c_k} or None.
 
-    None when some term is not of that form (k must be a number).
+    None when ``expr`` is not a trigonometric polynomial in ``var`` or some
+    rate k is not a real number.  The spectrum comes straight from the sines
+    and cosines (:func:`pendulab.exprs.trig_spectrum`), with no rewrite to
+    exponentials; each c_k is simplified on its own (a few symbols each).
     """
-    expanded = _as_exponentials(expr)
-    spectrum = {}
-    for term in sp.Add.make_args(expanded):
-        coeff, dep = term.as_independent(var, as_Add=False)
-        if dep == 1:
-            k = sp.Integer(0)
-        else:
-            dep = sp.powsimp(dep, combine="exp")
-            if not isinstance(dep, sp.exp):
-                return None
-            rate = sp.expand(dep.args[0] / (sp.I * var))
-            if rate.has(var) or not rate.is_number or not rate.is_real:
-                return None
-            k = sp.nsimplify(rate)
-        spectrum[k] = spectrum.get(k, 0) + coeff
-    return {k: sp.simplify(c) for k, c in spectrum.items() if sp.simplify(c) != 0}
+    spectrum = trig_spectrum(expr, var)
+    if spectrum is None:
+        return None
+    out = {}
+    for rate, coeff in spectrum.items():
+        if not rate.is_number or not rate.is_real:
+            return None
+        k = sp.nsimplify(rate)
+        out[k] = out.get(k, 0) + coeff
+    simplified = {k: _simplify_small(sp.expand(c)) for k, c in out.items()}
+    return {k: c for k, c in simplified.items() if c != 0}
+
+
+def _simplify_small(expr):
+    """``sp.simplify`` for a coefficient; a product of powers is left as it is (already simplest)."""
+    if expr.is_Add or expr.has(sp.exp, sp.sin, sp.cos):
+        return sp.simplify(expr)
+    return expr
 
 
 def _real_fourier(spectrum):
@@ -95,9 +99,10 @@ def _real_fourier(spectrum):
         cp = spectrum.get(sp.Integer(k), sp.Integer(0))
         cm = spectrum.get(sp.Integer(-k), sp.Integer(0))
         if k == 0:
-            out[0] = (sp.simplify(cp), sp.Integer(0))
+            out[0] = (_simplify_small(sp.expand(cp)), sp.Integer(0))
         else:
-            out[k] = (sp.simplify(cp + cm), sp.simplify(sp.I * (cp - cm)))
+            out[k] = (_simplify_small(sp.expand(cp + cm)),
+                      _simplify_small(sp.expand(sp.I * (cp - cm))))
     return out
 
 
@@ -110,7 +115,8 @@ def _positive_part(rate):
 def fundamental_frequency(expr):
     """The fundamental angular frequency of a periodic function of t, or None.
 
-    ``expr`` is written as a sum of exponentials exp(i w_j t); when every w_j
+    ``expr`` is written as a sum of exponentials exp(i w_j t) (from its sines
+    and cosines, :func:`pendulab.exprs.trig_spectrum`); when every w_j
     is a rational multiple of one of them, the fundamental is their greatest
     common divisor (``a*cos(omega*t)`` -> omega, ``0.01*cos(20*t)`` -> 20,
     ``a*cos(omega*t)**2`` -> 2*omega, ``a*cos(omega*t) + b*cos(2*omega*t)`` ->
@@ -121,17 +127,18 @@ def fundamental_frequency(expr):
     >>> fundamental_frequency(S.a*sp.cos(S.omega*S.t/2) + S.a*sp.sin(3*S.omega*S.t/4))
     omega/4
     """
-    expanded = _as_exponentials(sp.sympify(expr))
+    spectrum = trig_spectrum(sp.sympify(expr), S.t)
+    if spectrum is None:
+        return None
     rates = []
-    for atom in expanded.atoms(sp.exp):
-        if not atom.has(S.t):
+    for rate, coeff in spectrum.items():
+        if rate == 0:
             continue
-        rate = sp.expand(atom.args[0] / (sp.I * S.t))
-        if rate.has(S.t) or not rate.is_real:
+        if not rate.is_real:
             return None
-        if rate != 0:
+        if sp.expand(coeff) != 0:
             rates.append(_positive_part(rate))
-    if not rates or expanded.subs({e: 0 for e in expanded.atoms(sp.exp) if e.has(S.t)}).has(S.t):
+    if not rates:
         return None
     base = min(rates, key=sp.default_sort_key)
     numerators, denominators = [], []
@@ -157,8 +164,10 @@ def periodic_form(equations):
     acc = th_t.diff(S.t, 2)
     if sp.simplify(lin.coeff(acc) - 1) != 0:
         raise InputError("linear equation is not normalised")
-    coefficient_t = sp.simplify(lin.coeff(th_t))
-    rest = sp.simplify(lin - acc - coefficient_t * th_t)
+    # lin is expanded: its coefficients are read off without simplify (whose cost grows
+    # quickly with the number of harmonics of the drive).
+    coefficient_t = lin.coeff(th_t)
+    rest = sp.expand(lin - acc - coefficient_t * th_t)
     if rest != 0:
         raise InputError(f"linearised equation has terms other than theta'' and theta: {rest}")
     # The fundamental of the coefficient (of the pivot's acceleration y0''):
@@ -166,8 +175,7 @@ def periodic_form(equations):
     found = fundamental_frequency(coefficient_t)
     freq = S.omega if found is None else found
     # theta(t) = Theta(tau), d^2/dt^2 = (Omega/2)^2 d^2/dtau^2 (000, before eq. 5).
-    coefficient = sp.expand(sp.simplify(
-        (4 / freq**2) * coefficient_t.subs(S.t, 2 * S.tau / freq)))
+    coefficient = sp.expand((4 / freq**2) * coefficient_t.subs(S.t, 2 * S.tau / freq))
     th = S.theta(S.tau)
     equation = th.diff(S.tau, 2) + coefficient * th
     spectrum = _exponential_spectrum(coefficient, S.tau)
@@ -178,6 +186,12 @@ def periodic_form(equations):
     period = sp.pi if all(k % 2 == 0 for k in spectrum) else 2 * sp.pi
     nonzero = sorted(k for k in spectrum if k != 0)
     fourier = _real_fourier(spectrum)
+    # The same function as its Fourier sum (cos(2 tau), not 2 cos(tau)**2 - 1), when shorter.
+    as_sum = sp.expand(sum((c * sp.cos(k * S.tau) + s * sp.sin(k * S.tau)
+                            for k, (c, s) in fourier.items()), sp.Integer(0)))
+    if size(as_sum) <= size(coefficient):
+        coefficient = as_sum
+        equation = th.diff(S.tau, 2) + coefficient * th
     if nonzero and nonzero != [-2, 2]:
         return PeriodicForm(equation, coefficient, "hill", fourier=fourier, period=period,
                             frequency=freq,

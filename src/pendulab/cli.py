@@ -3,6 +3,11 @@
 Each sub-command lives in ``pendulab.commands.<name>`` with ``add_parser``
 and ``run``.  Errors a user can cause print one line per problem,
 ``pendulab: error: ...``, and exit with status 2; nothing is written.
+
+Option values may start with '-' (``--theta0 -1/5``, ``--drive -a*cos(omega*t)``):
+:func:`join_negative_values` attaches such a value to its option before
+argparse sees it.  Help texts show a default only where there is one
+(:class:`HelpFormatter`).
 """
 
 import argparse
@@ -20,6 +25,72 @@ def available_commands():
     return [n for n in COMMANDS if importlib.util.find_spec(f"pendulab.commands.{n}")]
 
 
+class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
+    """Show "(default: X)" only for a real default the help does not already state.
+
+    No "(default: None)" on required options or options without a default,
+    no "(default: False)" on flags, no second default after one in the text.
+    """
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if (action.default in (None, False, argparse.SUPPRESS) or action.required
+                or "default" in text or not action.option_strings):
+            return text
+        return text + " (default: %(default)s)"
+
+
+def _format_everywhere(parser):
+    """Give ``parser`` and every sub-command parser the :class:`HelpFormatter`."""
+    stack = [parser]
+    while stack:
+        p = stack.pop()
+        p.formatter_class = HelpFormatter
+        for action in p._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                stack.extend(action.choices.values())
+
+
+def _option_strings(parser):
+    """(all option strings, those that take a value) of ``parser`` and its sub-commands."""
+    every, valued = set(), set()
+    stack = [parser]
+    while stack:
+        p = stack.pop()
+        for action in p._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                stack.extend(action.choices.values())
+            elif action.option_strings:
+                every.update(action.option_strings)
+                if action.nargs != 0:
+                    valued.update(action.option_strings)
+    return every, valued
+
+
+def join_negative_values(argv, value_options, known_options=()):
+    """``["--theta0", "-1/5"]`` -> ``["--theta0=-1/5"]`` for options that take a value.
+
+    argparse reads a token that starts with '-' (other than a plain negative
+    decimal) as an option, so ``--theta0 -1/5`` would fail with "expected one
+    argument".  After an option that takes a value, a token that starts with
+    '-' and is not one of ``known_options`` (nor ``--``) is that value.
+    """
+    known = set(known_options)
+    out = []
+    i = 0
+    while i < len(argv):
+        tok = argv[i]
+        nxt = argv[i + 1] if i + 1 < len(argv) else None
+        if (tok in value_options and nxt is not None and nxt.startswith("-") and nxt != "--"
+                and nxt.split("=", 1)[0] not in known and len(nxt) > 1):
+            out.append(f"{tok}={nxt}")
+            i += 2
+            continue
+        out.append(tok)
+        i += 1
+    return out
+
+
 def make_parser():
     parser = argparse.ArgumentParser(
         prog="pendulab",
@@ -31,13 +102,16 @@ def make_parser():
     sub.required = True
     for name in available_commands():
         importlib.import_module(f"pendulab.commands.{name}").add_parser(sub)
+    _format_everywhere(parser)
     return parser
 
 
 def main(argv=None):
     from pendulab.errors import PendulabError
     parser = make_parser()
-    args = parser.parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    every, valued = _option_strings(parser)
+    args = parser.parse_args(join_negative_values(argv, valued, every))
     try:
         return int(args.func(args) or 0)
     except PendulabError as exc:

@@ -39,12 +39,16 @@ def linearise(expr, coordinate, about, time=S.t):
 
 
 def normalise(expr, coordinate, time=S.t):
-    """Divide ``expr`` by the coefficient of the coordinate's second derivative."""
+    """Divide ``expr`` by the coefficient of the coordinate's second derivative.
+
+    The coefficient is simplified; the quotient is only multiplied out (no
+    ``simplify`` of the whole equation, whose cost grows with the drive).
+    """
     acc = coordinate.diff(time, 2)
-    coeff = sp.expand(expr).coeff(acc)
+    coeff = sp.simplify(sp.expand(expr).coeff(acc))
     if coeff == 0:
         raise InputError("the equation has no second derivative of the coordinate")
-    return sp.expand(sp.simplify(expr / coeff))
+    return sp.expand(sp.expand(expr) / coeff)
 
 
 @dataclass(frozen=True)
@@ -77,8 +81,11 @@ class Equations:
 
 def _derive_driven_pivot(system):
     th = system.coordinate
-    lag = system.lagrangian
-    el = euler_lagrange(lag, th)
+    # Derived with the drive as an undefined function, then the drive put in: the cost
+    # of the derivatives does not grow with the drive's harmonics (y0'^2 has N^2 terms).
+    template = system.lagrangian_template()
+    lag = system.with_drive(template)
+    el = system.with_drive(euler_lagrange(template, th))
     source_form = sp.expand(el / (S.m * S.l))
     # 000 eq. 3: normalise and trade g for omega0^2 = m g l / I.
     eom = normalise(el, th)

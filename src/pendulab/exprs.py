@@ -36,15 +36,26 @@ from pendulab import symbols as S
 
 #: Longest expression text accepted (a guard against pathological input).
 MAX_LENGTH = 4000
-#: Deepest nesting of the syntax tree accepted.
+#: Deepest nesting of the syntax tree accepted.  A flat sum or product
+#: (``a1 + a2 + ... + a70``) and a run of signs (``- - x``) count as one level.
 MAX_DEPTH = 60
 #: Largest numeric exponent allowed (``t**(10**10)`` would hang the derivation).
 MAX_NUMERIC_EXPONENT = 1000
 #: Largest exact number (in bits) a power of numbers may produce
 #: (``((10**1000)**1000)**1000`` would otherwise hang the parser).
 MAX_NUMBER_BITS = 100_000
-#: Highest derivative order accepted in ``Derivative(f, (t, n))``.
+#: Highest total derivative order accepted: the orders of nested
+#: ``Derivative(Derivative(f, (t, 20)), (t, 20))`` add up (40 here).
 MAX_DERIVATIVE_ORDER = 20
+#: Most terms an expression may have once multiplied out (estimated from its
+#: tree without expanding: ``(a+b+c+d+t)**200`` would have 70 million).
+MAX_EXPANDED_TERMS = 2000
+#: Largest expression (nodes of its tree) a derivative in an expression may
+#: produce, checked one differentiation at a time.
+MAX_SIZE = 5000
+#: Names that would stand for infinity or NaN (SymPy's and Python's spellings).
+NOT_FINITE_NAMES = frozenset({"inf", "Inf", "nan", "NaN", "oo", "zoo", "infinity", "Infinity",
+                              "ComplexInfinity"})
 
 
 def _function_for(name):
@@ -59,17 +70,113 @@ def _function_for(name):
     return sp.Function(name, real=True)
 
 
+def derivative_order(expr):
+    """Total order of the derivatives in ``expr`` (nested ones add up; 0 if none)."""
+    best = 0
+    for d in expr.atoms(sp.Derivative):
+        best = max(best, sum(int(n) for _, n in d.variable_count) + derivative_order(d.expr))
+    return best
+
+
 def _derivative(*args):
-    """``Derivative`` with a bounded order (a huge order would hang the derivation)."""
-    total = 0
+    """``Derivative`` with a bounded total order and a bounded result size.
+
+    The order counts the derivatives already inside the expression
+    (:data:`MAX_DERIVATIVE_ORDER`); an explicit expression is differentiated
+    once per order to check that no step grows beyond :data:`MAX_SIZE`
+    nodes (the value returned stays unevaluated, as the user wrote it).
+    """
+    if not args or isinstance(args[0], sp.Tuple):
+        raise InputError("Derivative needs an expression first, then (t, n)")
+    total = derivative_order(args[0])
+    steps = []
     for spec in args[1:]:
-        count = spec[1] if isinstance(spec, sp.Tuple) and len(spec) == 2 else sp.Integer(1)
+        if isinstance(spec, sp.Tuple):
+            if len(spec) != 2 or not isinstance(spec[0], sp.Symbol):
+                raise InputError("a derivative is taken as (symbol, order), e.g. (t, 2)")
+            var, count = spec
+        elif isinstance(spec, sp.Symbol):
+            var, count = spec, sp.Integer(1)
+        else:
+            raise InputError("a derivative is taken with respect to a symbol, e.g. (t, 2)")
         if not (isinstance(count, sp.Integer) and count >= 0):
             raise InputError("the order of a derivative must be a non-negative integer")
         total += int(count)
-    if total > MAX_DERIVATIVE_ORDER:
-        raise InputError(f"derivative of order {total} is too high (limit {MAX_DERIVATIVE_ORDER})")
+        if total > MAX_DERIVATIVE_ORDER:
+            raise InputError(f"derivatives of total order {total} are too high "
+                             f"(limit {MAX_DERIVATIVE_ORDER}, nested ones add up)")
+        steps += [var] * int(count)
+    value = args[0].doit() if args[0].has(sp.Derivative) else args[0]
+    for i, var in enumerate(steps, 1):
+        value = sp.diff(value, var)
+        if size(value, MAX_SIZE) > MAX_SIZE:
+            raise InputError(f"derivative number {i} of {sp.sstr(args[0])[:40]} already has more "
+                             f"than {MAX_SIZE} nodes (limit {MAX_SIZE})")
     return sp.Derivative(*args)
+
+
+def size(expr, cap=None):
+    """Number of nodes of ``expr``'s tree; counting stops just past ``cap``."""
+    n = 0
+    stack = [expr]
+    while stack:
+        e = stack.pop()
+        n += 1
+        if cap is not None and n > cap:
+            return n
+        stack.extend(e.args)
+    return n
+
+
+def expanded_terms(expr, cap=MAX_EXPANDED_TERMS):
+    """Estimated number of terms of ``expr`` multiplied out (an upper bound, at most cap+1).
+
+    A sum adds, a product multiplies, a power (b)**n of a b-term sum has
+    C(n+b-1, b-1) terms; the arguments of functions are estimated alone.
+    Raises :class:`InputError` naming the part whose estimate passes ``cap``.
+    """
+    from math import comb
+
+    def est(e):
+        if e.is_Atom:
+            return 1
+        if e.is_Add:
+            n = sum(est(a) for a in e.args)
+        elif e.is_Mul:
+            n = 1
+            for a in e.args:
+                n = min(n * est(a), cap + 1)
+        elif e.is_Pow:
+            b = est(e.base)
+            x = e.exp
+            est(x)
+            if b > 1 and x.is_Integer:
+                k = abs(int(x))
+                n = comb(k + b - 1, b - 1) if b <= cap else cap + 1
+                if n <= cap and x < 0:
+                    n = 1  # a denominator: one factor of each term, multiplied out on its own
+            else:
+                n = b
+        else:
+            for a in e.args:
+                est(a)
+            n = 1
+        if n > cap:
+            raise InputError(f"{sp.sstr(e)[:40]} would have {_rough(n, cap)} terms "
+                             f"when multiplied out (limit {cap})")
+        return n
+    return est(expr)
+
+
+def _rough(n, cap):
+    if n == cap + 1:
+        return f"more than {cap}"
+    return f"about {float(n):.2g}" if n < 10**15 else f"about 10^{len(str(n)) - 1}"
+
+
+def _not_finite(expr):
+    """True when ``expr`` contains an infinity or NaN (zoo is what 1/0 gives)."""
+    return expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan)
 
 
 def _bits(x):
@@ -88,9 +195,18 @@ _FUNCTIONS = {
     "sign": sp.sign, "Heaviside": sp.Heaviside,
     "besselj": sp.besselj, "bessely": sp.bessely,
     "Derivative": _derivative, "Rational": sp.Rational,
-    "Integer": sp.Integer, "Eq": sp.Eq, "Tuple": sp.Tuple,
+    "Integer": sp.Integer,
 }
 _CONSTANTS = {"pi": sp.pi}
+#: SymPy names of things that are not expressions (refused even as function names).
+NOT_EXPRESSIONS = {
+    **dict.fromkeys(("Eq", "Ne", "Lt", "Le", "Gt", "Ge", "Equality", "Unequality"),
+                    "a relation"),
+    **dict.fromkeys(("And", "Or", "Not", "Xor", "Implies", "ITE"), "a logical operation"),
+    **dict.fromkeys(("Tuple", "Matrix", "FiniteSet", "Interval", "Dict"), "a container"),
+    **dict.fromkeys(("Piecewise", "Lambda", "Symbol", "Function", "sympify", "S"),
+                    "SymPy machinery"),
+}
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 
 
@@ -108,7 +224,8 @@ class _Builder:
 
     def build(self, node, depth=0):
         if depth > MAX_DEPTH:
-            raise InputError("expression is nested too deeply")
+            raise InputError(f"expression is nested too deeply (limit {MAX_DEPTH} levels of "
+                             "parentheses and function calls)")
         method = getattr(self, "_" + type(node).__name__, None)
         if method is None:
             raise InputError(f"{_describe(node)} is not allowed in an expression")
@@ -129,6 +246,9 @@ class _Builder:
     def _Name(self, node, d):
         name = node.id
         _check_name(name)
+        if name in NOT_FINITE_NAMES:
+            raise InputError(f"name {name!r} is not allowed: infinity and NaN are not values "
+                             "(give a finite number or a symbol)")
         if name in _CONSTANTS:
             return _CONSTANTS[name]
         if name in self.namespace:
@@ -142,30 +262,41 @@ class _Builder:
         return sp.Symbol(name, real=True)
 
     def _Tuple(self, node, d):
-        return sp.Tuple(*[self.build(e, d) for e in node.elts])
+        raise InputError("a tuple is not an expression (only Derivative takes (t, n))")
 
     def _UnaryOp(self, node, d):
-        v = self.build(node.operand, d)
-        if isinstance(node.op, ast.USub):
-            return -v
-        if isinstance(node.op, ast.UAdd):
-            return v
-        raise InputError(f"operator {type(node.op).__name__} is not allowed")
+        # A run of signs (- - - x) is one level, walked without recursion.
+        negate = False
+        while isinstance(node, ast.UnaryOp):
+            if isinstance(node.op, ast.USub):
+                negate = not negate
+            elif not isinstance(node.op, ast.UAdd):
+                raise InputError(f"operator {type(node.op).__name__} is not allowed")
+            node = node.operand
+        v = self.build(node, d)
+        return -v if negate else v
 
     def _BinOp(self, node, d):
+        op = node.op
+        # Folded left to right with the binary operators, exactly as Python would
+        # (2*(nu - 1) distributes to 2*nu - 2 only as a binary product).
+        if isinstance(op, (ast.Add, ast.Sub)):
+            (_, value), *rest = self._chain(node, d, ast.Add, ast.Sub)
+            for sign, term in rest:
+                value = value + term if sign > 0 else value - term
+            return value
+        if isinstance(op, (ast.Mult, ast.Div)):
+            (_, value), *rest = self._chain(node, d, ast.Mult, ast.Div)
+            for sign, factor in rest:
+                if sign < 0:
+                    if factor == 0:
+                        raise InputError("division by zero in expression")
+                    value = value / factor
+                else:
+                    value = value * factor
+            return value
         x = self.build(node.left, d)
         y = self.build(node.right, d)
-        op = node.op
-        if isinstance(op, ast.Add):
-            return x + y
-        if isinstance(op, ast.Sub):
-            return x - y
-        if isinstance(op, ast.Mult):
-            return x * y
-        if isinstance(op, ast.Div):
-            if y == 0:
-                raise InputError("division by zero in expression")
-            return x / y
         if isinstance(op, ast.BitXor):
             raise InputError("'^' is not a power here (it binds looser than '*'); write '**'")
         if isinstance(op, ast.Pow):
@@ -174,8 +305,21 @@ class _Builder:
             if y.is_number and _bits(x) * abs(sp.re(y)) > MAX_NUMBER_BITS:
                 raise InputError(f"the power {sp.sstr(x)[:20]}**{y} is too large a number "
                                  f"(limit {MAX_NUMBER_BITS} bits)")
+            if x == 0 and y.is_number and y.is_negative:
+                raise InputError(f"division by zero in expression (0**{y})")
             return x ** y
         raise InputError(f"operator {type(op).__name__} is not allowed")
+
+    def _chain(self, node, d, plus, minus):
+        """Operands of a left-nested chain a + b - c ... as (sign, value), without recursion."""
+        rights = []
+        while isinstance(node, ast.BinOp) and isinstance(node.op, (plus, minus)):
+            rights.append((-1 if isinstance(node.op, minus) else 1, node.right))
+            node = node.left
+        out = [(1, self.build(node, d))]
+        for sign, right in reversed(rights):
+            out.append((sign, self.build(right, d)))
+        return out
 
     def _Call(self, node, d):
         if node.keywords:
@@ -184,16 +328,35 @@ class _Builder:
             raise InputError(f"{_describe(node.func)} is not allowed in an expression")
         name = node.func.id
         _check_name(name)
-        args = [self.build(a, d) for a in node.args]
+        args = []
+        for a in node.args:
+            if name == "Derivative" and args and isinstance(a, ast.Tuple):
+                args.append(sp.Tuple(*[self.build(e, d + 1) for e in a.elts]))
+            else:
+                args.append(self.build(a, d))
+        text = (ast.get_source_segment(self.source, node) or name)[:60]
         if name in ("theta", "L") and self.functions_allowed and len(args) == 1:
             return _function_for(name)(*args)
         if name in _FUNCTIONS:
+            if name == "Rational" and len(args) == 2 and args[1] == 0:
+                raise InputError(f"division by zero in {text}")
             try:
-                return _FUNCTIONS[name](*args)
-            except (TypeError, ValueError) as exc:
+                value = _FUNCTIONS[name](*args)
+            except InputError:
+                raise
+            except (TypeError, ValueError, ArithmeticError) as exc:
                 raise InputError(f"bad arguments to {name}: {exc}") from None
+            if not isinstance(value, sp.Expr):
+                raise InputError(f"{text} is not an expression")
+            if _not_finite(value):
+                raise InputError(f"{text} is not finite (it is {sp.sstr(value)[:20]}: a division "
+                                 "by zero or a pole)")
+            return value
         if name in self.namespace or name in _CONSTANTS:
             raise InputError(f"{name!r} is a symbol, not a function")
+        if name in NOT_EXPRESSIONS:
+            raise InputError(f"{name}(...) is not allowed: {NOT_EXPRESSIONS[name]}, not an "
+                             "expression")
         if not self.functions_allowed:
             raise InputError(f"unknown function {name!r}")
         if not args:
@@ -232,12 +395,21 @@ def parse(text, namespace=None, *, functions=True):
         tree = ast.parse(text.strip(), mode="eval")
     except SyntaxError as exc:
         raise InputError(f"cannot parse {text.strip()!r}: {exc.msg}") from None
+    except (RecursionError, MemoryError):
+        raise InputError("expression is nested too deeply (Python's parser gave up)") from None
     builder = _Builder(S.NAMESPACE if namespace is None else namespace, functions)
     builder.source = text.strip()
     try:
-        return builder.build(tree)
+        value = builder.build(tree)
     except RecursionError:
-        raise InputError("expression is nested too deeply") from None
+        raise InputError(f"expression is nested too deeply (limit {MAX_DEPTH} levels)") from None
+    if not isinstance(value, sp.Expr) or isinstance(value, sp.Tuple):
+        raise InputError(f"{text.strip()[:40]!r} is not an expression")
+    if _not_finite(value):
+        raise InputError(f"expression is not finite: {sp.sstr(value)[:40]} (zoo is 1/0: "
+                         "a division by zero)")
+    expanded_terms(value)
+    return value
 
 
 def dump_expr(expr):
@@ -257,3 +429,107 @@ def load_expr(text):
 def latex(expr, **settings):
     """LaTeX of ``expr`` with pendulab's symbol names (``theta0`` -> ``\\theta_{0}``)."""
     return sp.latex(expr, **settings)
+
+
+# ---------------------------------------------------------------------------
+# Trigonometric polynomials, directly
+# ---------------------------------------------------------------------------
+
+#: Most distinct frequencies a trigonometric polynomial may have (a drive
+#: a1 cos(omega t) + ... + aN cos(N omega t) has N; its coefficient in the
+#: equation N as well, cos(omega t)**N has N + 1 with the constant).
+from pendulab.limits import MAX_HARMONICS  # noqa: E402  (kept with the option ranges)
+
+
+class TooManyHarmonics(InputError):
+    """A trigonometric polynomial with more than :data:`MAX_HARMONICS` frequencies."""
+
+
+def _linear_rate(arg, var):
+    """(r, p) with arg = r*var + p, r != 0 free of var; None when arg is not of that form."""
+    arg = sp.expand(arg)
+    r = arg.coeff(var, 1)
+    p = arg.coeff(var, 0)
+    if r == 0 or r.has(var) or p.has(var) or sp.expand(arg - r * var - p) != 0:
+        return None
+    return r, p
+
+
+def _is_trig_shaped(e, var):
+    """Cheap test: is ``e`` a polynomial in sin/cos of linear functions of ``var``?"""
+    if not e.has(var):
+        return True
+    if e.is_Add or e.is_Mul:
+        return all(_is_trig_shaped(a, var) for a in e.args)
+    if e.is_Pow:
+        return (e.exp.is_Integer and e.exp >= 0 and not e.exp.has(var)
+                and _is_trig_shaped(e.base, var))
+    if isinstance(e, (sp.sin, sp.cos)):
+        return _linear_rate(e.args[0], var) is not None
+    return False
+
+
+def _times(x, y, limit):
+    out = {}
+    for rx, cx in x.items():
+        for ry, cy in y.items():
+            r = rx + ry
+            out[r] = out.get(r, 0) + cx * cy
+            if len(out) > limit:
+                raise TooManyHarmonics(f"more than {MAX_HARMONICS} frequencies "
+                                       f"(limit {MAX_HARMONICS} harmonics)")
+    return out
+
+
+def trig_spectrum(expr, var, limit=None):
+    """``expr`` as sum_r c_r exp(i r var): {r: c_r}, or None when it is not of that form.
+
+    ``expr`` must be a polynomial in sin and cos of ``r*var + p`` (r, p free of
+    ``var``) with coefficients free of ``var``; the rates r are kept as they
+    are (``omega``, ``2*omega``, numbers).  The work is the product of the
+    spectra of the factors, with no rewrite to exponentials and no
+    simplification: for a Fourier drive of N harmonics it is O(N^2) small
+    multiplications.  ``c_r`` are unexpanded SymPy expressions (expand them).
+    Raises :class:`TooManyHarmonics` past ``limit`` rates (default
+    2*MAX_HARMONICS + 1).
+    """
+    limit = 2 * MAX_HARMONICS + 1 if limit is None else limit
+    if not _is_trig_shaped(expr, var):
+        return None
+    half = sp.Rational(1, 2)
+
+    def spec(e):
+        if not e.has(var):
+            return {sp.Integer(0): e}
+        if e.is_Add:
+            out = {}
+            for a in e.args:
+                for r, c in spec(a).items():
+                    out[r] = out.get(r, 0) + c
+            if len(out) > limit:
+                raise TooManyHarmonics(f"more than {MAX_HARMONICS} frequencies "
+                                       f"(limit {MAX_HARMONICS} harmonics)")
+            return out
+        if e.is_Mul:
+            out = {sp.Integer(0): sp.Integer(1)}
+            for a in e.args:
+                out = _times(out, spec(a), limit)
+            return out
+        if e.is_Pow:
+            base, n = spec(e.base), int(e.exp)
+            out = {sp.Integer(0): sp.Integer(1)}
+            while n:  # binary powering
+                if n & 1:
+                    out = _times(out, base, limit)
+                n >>= 1
+                if n:
+                    base = _times(base, base, limit)
+            return out
+        r, p = _linear_rate(e.args[0], var)
+        up = half if p == 0 else half * sp.exp(sp.I * p)
+        down = half if p == 0 else half * sp.exp(-sp.I * p)
+        if isinstance(e, sp.cos):
+            return {r: up, -r: down}
+        return {r: -sp.I * up, -r: sp.I * down}
+
+    return spec(expr)

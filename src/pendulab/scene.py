@@ -25,6 +25,7 @@ and the key (:class:`pendulab.errors.SceneError`).  Expressions are parsed by
 :func:`pendulab.exprs.parse`, which executes nothing.
 """
 
+import math
 import re
 import tomllib
 from dataclasses import dataclass, field
@@ -56,13 +57,26 @@ class Scene:
     values: dict = field(default_factory=dict)  # [values]: {symbol name: SymPy number}
 
 
+#: Deepest nesting of tables and lists a scene may have (a scene needs 4:
+#: products.floquet.points[i][j]).
+MAX_NESTING = 16
+
+
 class _Problems:
     def __init__(self, path):
         self.path = path
         self.items = []
+        self.bad_values = set()  # keys whose value is unusable (NaN, too deep): one problem each
 
     def add(self, key, problem):
+        if any(key == bad or (key or "").startswith(bad + ".") for bad in self.bad_values):
+            return
         self.items.append(SceneError(self.path, key, problem))
+
+    def bad_value(self, where, problem):
+        """A problem at ``where`` (a dotted path with list indices) that later checks skip."""
+        self.add(where, problem)
+        self.bad_values.add(_top(where))
 
     def raise_if_any(self):
         if len(self.items) == 1:
@@ -72,6 +86,37 @@ class _Problems:
             err.args = ("\n".join(str(e) for e in self.items),)
             err.problems = self.items
             raise err
+
+
+def _check_values(data, problems):
+    """Report NaN/infinite floats and too deep nesting anywhere in ``data`` (iteratively).
+
+    TOML allows ``nan`` and ``inf``; no quantity of a scene can be either.
+    The key of each problem is the dotted path (``products.floquet.points[0][1]``);
+    the top-level key is what later checks skip.
+    """
+    stack = [(data, "", 0)]
+    while stack:
+        value, where, depth = stack.pop()
+        if isinstance(value, float) and not math.isfinite(value):
+            problems.bad_value(where, f"is {value!r}: NaN and infinity are not allowed in a "
+                                      "scene (give a finite number)")
+            continue
+        if depth > MAX_NESTING:
+            problems.bad_value(where.split("[", 1)[0], f"nested more than {MAX_NESTING} levels deep")
+            continue
+        if isinstance(value, dict):
+            for key, item in value.items():
+                stack.append((item, f"{where}.{key}" if where else str(key), depth + 1))
+        elif isinstance(value, list):
+            for i, item in enumerate(value):
+                stack.append((item, f"{where}[{i}]", depth + 1))
+
+
+def _top(where):
+    """The key a later check reports for ``where``: up to the first list index."""
+    return where.split("[", 1)[0]
+
 
 
 def _option_value(kind, value):
@@ -102,8 +147,14 @@ def _option_value(kind, value):
 
 
 def validate_options(module, given, where, problems):
-    """Fill defaults, check types; options with default ``None`` are required."""
+    """Fill defaults, check types and ranges; options with default ``None`` are required.
+
+    The range of an option ``key`` of product ``name`` is the entry
+    ``name.key`` of :data:`pendulab.limits.LIMITS`, when there is one.
+    """
+    from pendulab import limits
     spec = getattr(module, "OPTIONS", {})
+    product = module.__name__.rsplit(".", 1)[-1]
     options = {}
     for key in sorted(set(given) - set(spec)):
         problems.add(f"{where}.{key}", f"unknown option (known: {', '.join(sorted(spec)) or 'none'})")
@@ -111,12 +162,23 @@ def validate_options(module, given, where, problems):
         if key in given:
             try:
                 options[key] = _option_value(kind, given[key])
+                if f"{product}.{key}" in limits.LIMITS:
+                    limits.check(f"{product}.{key}", options[key], label="")
             except (TypeError, ValueError) as exc:
                 problems.add(f"{where}.{key}", str(exc))
         elif default is None:
             problems.add(f"{where}.{key}", "missing (this product needs it)")
         else:
             options[key] = default
+    checker = getattr(module, "check_options", None)
+    if checker is not None and set(options) == set(spec) and not any(
+            (e.key or "").startswith(where) for e in problems.items):
+        # the product's own checks of values and of the options together, before any work
+        try:
+            checker(options)
+        except InputError as exc:
+            for problem in getattr(exc, "problems", [str(exc)]):
+                problems.add(where, problem)
     return options
 
 
@@ -128,6 +190,7 @@ def parse_scene(data, path="<scene>"):
     problems = _Problems(path)
     if not isinstance(data, dict):
         raise SceneError(path, None, "a scene is a TOML table")
+    _check_values(data, problems)
     for key in sorted(set(data) - TOP_KEYS):
         problems.add(key, f"unknown key (known: {', '.join(sorted(TOP_KEYS))})")
     system = data.get("system")
@@ -174,7 +237,9 @@ def parse_scene(data, path="<scene>"):
     if system == "kapitza":
         if "inertia" in parsed and parsed.get("body", "rod") != "explicit":
             problems.add("parameters.inertia", "given, but body is not 'explicit'")
-    if system in PARAMETERS and not problems.items:
+    built = None
+    if system in PARAMETERS and not any(e.key == "system" or (e.key or "").startswith("parameters")
+                                        for e in problems.items):
         # Let the system itself judge the values (positivity, time dependence ...).
         from pendulab.pipeline import _stage_system
 
@@ -219,6 +284,13 @@ def parse_scene(data, path="<scene>"):
                 problems.add(where, f"not available for system {system!r}")
                 continue
             chosen[pname] = validate_options(module, given, where, problems)
+    if built is not None and system == "variable-length" and "quarter_periods" in chosen:
+        found = built.length_zero
+        if found is not None and found[1]:
+            from pendulab.systems import length_zero_note
+            problems.add("products.quarter_periods",
+                         "needs a string that stays longer than zero for all t >= 0, but "
+                         + length_zero_note(built).split(":", 1)[0])
     problems.raise_if_any()
     return Scene(str(path), name, system, description, parsed, chosen, data, values)
 
@@ -278,4 +350,7 @@ def load_scene(path):
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(path, None, f"not valid TOML: {exc}") from None
+    except (RecursionError, MemoryError):
+        raise SceneError(path, None, "not valid TOML here: nested too deeply "
+                                     f"(a scene needs at most {MAX_NESTING} levels)") from None
     return parse_scene(data, path)

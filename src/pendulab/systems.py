@@ -55,10 +55,44 @@ def _check_time_expression(expr):
                              "and other than theta and L")
     if expr.has(S.tau):
         raise InputError("must be written in t, not tau")
+    if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+        raise InputError(f"is not finite: {sp.sstr(expr)[:40]} (zoo is 1/0: a division by zero)")
     for f in expr.atoms(*_NOT_SMOOTH):
         if f.has(S.t):
             raise InputError(f"must be twice differentiable in t; {f} is not "
                              f"({type(f).__name__} of t has a kink or a jump)")
+
+
+#: Most terms the square of a drive's (or length's) first derivative may have
+#: multiplied out: the Lagrangian holds y0'^2 (64 harmonics give 4096).
+MAX_SQUARE_TERMS = 5000
+
+
+def check_cost(expr):
+    """Refuse a function of t whose derivation would pass the cost bounds.
+
+    The bounds (stated in :mod:`pendulab.exprs`): the expression and its first
+    two t-derivatives at most ``MAX_SIZE`` nodes each, the square of the first
+    derivative at most :data:`MAX_SQUARE_TERMS` terms multiplied out, and a
+    trigonometric polynomial at most ``MAX_HARMONICS`` frequencies.
+    """
+    from pendulab.exprs import MAX_SIZE, expanded_terms, size, trig_spectrum
+    value = expr.doit() if expr.has(sp.Derivative) else expr
+    for order in (0, 1, 2):
+        if order:
+            value = sp.diff(value, S.t)
+        n = size(value, MAX_SIZE)
+        if n > MAX_SIZE:
+            raise InputError(f"its derivative of order {order} in t has more than {MAX_SIZE} "
+                             f"nodes (limit {MAX_SIZE})")
+        if order == 1:
+            try:
+                expanded_terms(value**2, MAX_SQUARE_TERMS)
+            except InputError:
+                raise InputError("the square of its derivative in t would have more than "
+                                 f"{MAX_SQUARE_TERMS} terms multiplied out (limit "
+                                 f"{MAX_SQUARE_TERMS})") from None
+    trig_spectrum(expr.doit() if expr.has(sp.Derivative) else expr, S.t)
 
 
 def _positive_or_symbolic(value):
@@ -73,6 +107,19 @@ def _positive_or_symbolic(value):
     elif value.is_positive is False or value.is_nonpositive:
         raise InputError(f"must be positive, got {value}")
     return value
+
+
+def _check_inertia_bound(inertia):
+    """Refuse a moment of inertia about the pivot that is provably below m l^2.
+
+    I = m l^2 + I0 with I0 >= 0 the moment about the centre of mass (000
+    after eq. 2; parallel-axis theorem).  A value whose sign of I - m l^2
+    SymPy cannot decide (a bare number, a new symbol) is accepted.
+    """
+    excess = sp.simplify(inertia - S.m * S.l**2)
+    if excess.is_negative:
+        raise InputError(f"I = {sp.sstr(inertia)} is less than m*l**2 (I = m*l**2 + I0 with "
+                         "I0 >= 0: the moment about the pivot is at least that of a point mass)")
 
 
 def _collect(problems, key, check, *args):
@@ -122,12 +169,16 @@ class DrivenPivot:
             problems.append(("inertia", f"given but body is {self.body!r} (use body='explicit')"))
         drive = sp.sympify(self.drive)
         _collect(problems, "drive", _check_time_expression, drive)
+        if not any(key == "drive" for key, _ in problems):
+            _collect(problems, "drive", check_cost, drive)
         if self.inertia_value is not None:
             inertia = sp.sympify(self.inertia_value)
             _collect(problems, "inertia", _positive_or_symbolic, inertia)
             if inertia.has(S.t):
                 problems.append(("inertia", "may not depend on t"))
             _collect(problems, "inertia", _check_time_expression, inertia)
+            if not any(key == "inertia" for key, _ in problems):
+                _collect(problems, "inertia", _check_inertia_bound, inertia)
         if problems:
             raise ParameterError(problems)
         object.__setattr__(self, "drive", drive)
@@ -172,10 +223,37 @@ class DrivenPivot:
         """V = m g y (000, before the Lagrangian)."""
         return S.m * S.g * self.centre_of_mass[1]
 
+    #: The undefined function that stands for the drive in :meth:`lagrangian_template`.
+    DRIVE = sp.Function("_y0", real=True)(S.t)
+
+    def lagrangian_template(self):
+        """L = T - V with the drive kept as the undefined function :attr:`DRIVE`.
+
+        sin^2 theta is written 1 - cos^2 theta and the result multiplied out,
+        which cancels the m l^2 theta'^2 terms (000, the Lagrangian after
+        eq. 2).  The work does not depend on the drive: put it in with
+        :meth:`with_drive`.
+        """
+        template = DrivenPivot.__new__(DrivenPivot)
+        for name in ("body", "angle", "inertia_value"):
+            object.__setattr__(template, name, getattr(self, name))
+        object.__setattr__(template, "drive", self.DRIVE)
+        th = self.coordinate
+        lag = sp.expand(template.kinetic_energy - template.potential_energy)
+        return sp.expand(lag.subs(sp.sin(th)**2, 1 - sp.cos(th)**2))
+
+    def with_drive(self, expr):
+        """``expr`` (from :meth:`lagrangian_template`) with the scene's drive put in, multiplied out."""
+        return sp.expand(expr.subs(self.DRIVE, self.drive).doit())
+
     @property
     def lagrangian(self):
-        """L = T - V, simplified (000, the Lagrangian after eq. 2)."""
-        return sp.expand(sp.trigsimp(sp.expand(self.kinetic_energy - self.potential_energy)))
+        """L = T - V, simplified (000, the Lagrangian after eq. 2).
+
+        The drive's own trigonometric terms are left as the user wrote them
+        (only multiplied out); see :meth:`lagrangian_template`.
+        """
+        return self.with_drive(self.lagrangian_template())
 
     @property
     def inverted_position(self):
@@ -191,6 +269,82 @@ class DrivenPivot:
             "I": self.inertia,
             "I_over_ml2": self.inertia_ratio,
         }
+
+
+#: How far (in the scene's unit of time) a length that is not a polynomial is
+#: scanned for a zero: 20000 samples of 0 < t <= 100.
+LENGTH_SCAN_END = 100
+
+
+def _first_zero(length):
+    t = S.t
+    length = sp.expand(length)
+    if not length.has(t):
+        return None
+    if length.is_polynomial(t):
+        poly = sp.Poly(length, t)
+        if poly.degree() <= 2:
+            found = []
+            for root in sp.solve(length, t):
+                if root.is_positive:
+                    found.append((root, True))
+                elif root.is_real is not False and root.is_positive is None and root.free_symbols:
+                    found.append((root, False))
+            certain = [r for r, ok in found if ok and r.is_number]
+            if certain:
+                return min(certain, key=float), True
+            return found[0] if found else None
+        if not poly.free_symbols - {t} and poly.degree() <= 8:
+            roots = [r for r in poly.real_roots() if r.is_positive]
+            return (min(roots, key=float), True) if roots else None
+        # higher degrees (t**999: exact real roots would take minutes) are scanned below
+    const, rest = length.as_independent(t, as_Add=False)
+    if const.is_positive is not True or rest.free_symbols != {t}:
+        return None
+    import numpy as np
+    f = sp.lambdify(t, rest, "numpy")
+    ts = np.linspace(0, LENGTH_SCAN_END, 20001)[1:]
+    with np.errstate(all="ignore"):
+        ys = np.broadcast_to(np.asarray(f(ts), dtype=float), ts.shape)
+    if not np.all(np.isfinite(ys)):  # overflow or a pole: look only before it
+        k = int(np.argmin(np.isfinite(ys)))
+        ts, ys = ts[:k], ys[:k]
+        if ts.size < 3:
+            return None
+    scale = abs(float(rest.subs(t, 0))) or 1.0  # |L(0)| / const, positive (checked before)
+    mags = np.abs(ys)
+    crossing = np.sign(ys[1:]) != np.sign(ys[:-1])
+    # a zero it touches without crossing (1 + cos t): a strict interior minimum of |L| near 0
+    touching = np.zeros_like(crossing)
+    touching[1:] = ((mags[1:-1] < mags[:-2]) & (mags[1:-1] < mags[2:])
+                    & (mags[1:-1] < 1e-4 * scale))
+    for k in np.nonzero(crossing | touching)[0]:
+        k = int(k)
+        if not crossing[k]:
+            return sp.Float(ts[k], 6), True
+        lo, hi = float(ts[k]), float(ts[k + 1])
+        for _ in range(60):
+            mid = (lo + hi) / 2
+            if np.sign(f(mid)) == np.sign(f(lo)):
+                lo = mid
+            else:
+                hi = mid
+        if abs(float(f(hi))) <= 1e-6 * scale:  # a zero, not a pole (3 + tan t changes sign at pi/2)
+            return sp.Float(hi, 6), True
+    return None
+
+
+def length_zero_note(system):
+    """One sentence stating where L(t) reaches zero (None when it does not, as far as known)."""
+    found = system.length_zero
+    if found is None:
+        return None
+    when, certain = found
+    at = f"about t = {float(when):.6g}" if isinstance(when, sp.Float) else f"t = {sp.sstr(when)}"
+    text = f"L(t) = {sp.sstr(system.length)} reaches zero at {at}"
+    if not certain:
+        text += " (when that is positive)"
+    return text + ": the string has no length there, and the equations hold only before it"
 
 
 @dataclass(frozen=True)
@@ -224,6 +378,8 @@ class VariableLength:
                 problems.append(("length", "must be real (I here is the imaginary unit sqrt(-1))"))
             elif (at0.is_number and not at0.is_positive) or at0.is_nonpositive:
                 problems.append(("length", f"must be positive at t = 0, got {at0}"))
+            else:
+                _collect(problems, "length", check_cost, length)
         mass = sp.sympify(self.mass)
         _collect(problems, "mass", _positive_or_symbolic, mass)
         if mass.has(S.t) or _free_functions(mass):
@@ -259,6 +415,22 @@ class VariableLength:
     def lagrangian(self):
         """L = T - V with the length kept as the function L(t)."""
         return sp.expand(sp.trigsimp(sp.expand(self.kinetic_energy - self.potential_energy)))
+
+    @property
+    def length_zero(self):
+        """The first time t > 0 at which L(t) = 0, as ``(t, certain)``; None if none is found.
+
+        A polynomial length is solved exactly (degree <= 2, symbolic
+        coefficients allowed) or by its real roots (numeric coefficients,
+        degree <= 8);
+        ``certain`` is False when the root is positive only for some values
+        of the symbols.  Any other length whose only variable is t (after
+        positive constant factors are taken out: L0*cos(t)) is scanned on
+        0 < t <= :data:`LENGTH_SCAN_END` and the sign change refined by
+        bisection (a float then).  Past the zero the string has no length:
+        the equations hold only before it.
+        """
+        return _first_zero(self.length)
 
     @property
     def is_linear_length(self):

@@ -1,35 +1,34 @@
 """pendulab derive kapitza|variable-length [...] [--json|--latex]"""
 
-import argparse
-
 
 def add_parser(sub):
+    from pendulab.limits import MAX_HARMONICS
     p = sub.add_parser(
         "derive", help="derive the equations of motion of a system",
         description="Derive the equations of motion from the Lagrangian, linearise them "
-                    "and bring them to canonical form (Mathieu/Hill or Bessel).")
+                    "and bring them to canonical form (Mathieu/Hill or Bessel).  Expressions "
+                    "are read without executing them; their limits are in docs/scenes.md.")
     systems = p.add_subparsers(dest="system", metavar="SYSTEM")
     systems.required = True
     k = systems.add_parser(
         "kapitza", help="rigid body on a vertically driven pivot (000)",
-        description="Rigid body on a vertically driven pivot (000_8cba66c4fdf94ac6.txt).",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+        description="Rigid body on a vertically driven pivot (000_8cba66c4fdf94ac6.txt).")
     k.add_argument("--body", choices=("rod", "point", "explicit"), default="rod",
                    help="rod: I = 4 m l^2/3; point: I = m l^2; explicit: I from --inertia")
-    k.add_argument("--inertia", metavar="EXPR", help="moment of inertia about the pivot "
-                   "(with --body explicit; default the symbol I)")
-    k.add_argument("--drive", metavar="EXPR", default="a*cos(omega*t)", help="pivot height y0(t); its fundamental frequency Omega sets tau = Omega t/2 "
-                        "(write --drive=-a*cos(omega*t) when the expression starts with '-')")
+    k.add_argument("--inertia", metavar="EXPR", help="moment of inertia I about the pivot, "
+                   "I >= m l^2 (with --body explicit; default: the symbol I)")
+    k.add_argument("--drive", metavar="EXPR", default="a*cos(omega*t)",
+                   help="pivot height y0(t); its fundamental frequency Omega sets tau = Omega t/2 "
+                        f"(at most {MAX_HARMONICS} harmonics)")
     k.add_argument("--angle", choices=("up", "down"), default="up",
                    help="measure theta from the upward (source) or downward vertical")
     _formats(k)
     k.set_defaults(func=run)
     v = systems.add_parser(
         "variable-length", help="point mass on a string of length L(t) (002)",
-        description="Point mass on a string of varying length (002_19b336b29bb1f03b.txt).",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+        description="Point mass on a string of varying length (002_19b336b29bb1f03b.txt).")
     v.add_argument("--length", metavar="EXPR", default="L0 + v0*t",
-                   help="string length L(t) (write --length=-... when it starts with '-')")
+                   help="string length L(t), positive at t = 0")
     v.add_argument("--mass", metavar="EXPR", default="m", help="the mass")
     _formats(v)
     v.set_defaults(func=run)

@@ -1,24 +1,28 @@
-"""pendulab floquet --theta0 X --theta1 Y [--dps D] [--method hill|cf|monodromy] [--json]"""
+"""pendulab floquet --theta0 THETA0 --theta1 THETA1 [--dps D] [--method hill|cf|monodromy] [--json]"""
 
-import argparse
+
+#: pendulab.analyses.floquet.SIZE_LIMITS as text (not imported to build the parser; a test
+#: checks that they agree)
+SIZES = "4e+06 (hill), 30000 (cf), 5000 (monodromy)"
 
 
 def add_parser(sub):
+    from pendulab.limits import WORK_BUDGET_SECONDS, describe
+    sizes = SIZES
     p = sub.add_parser(
         "floquet", help="characteristic exponent, multipliers and stability of Mathieu's equation",
         description="Floquet exponent lambda of theta'' + (theta0 + 2 theta1 cos 2tau) theta = 0 "
                     "(000 eq. 7), its multipliers exp(+-i pi lambda) and the stable/unstable "
-                    "verdict.  X and Y are exact decimals or fractions (\"-0.002\", \"1/5\"), "
-                    "read at the working precision.  A negative value that is not a plain "
-                    "decimal (\"-1/5\", \"-1e-3\") must be attached with '=': "
-                    "--theta0=-1/5.  Size limit: |theta0| + 2|theta1| <= 4e6 (hill), "
-                    "3e4 (cf), 5e3 (monodromy).",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    p.add_argument("--theta0", required=True, help="theta0 = -4 omega0^2/omega^2 (000 eq. 5); write --theta0=-1/5 for negative "
-                        "fractions")
-    p.add_argument("--theta1", required=True, help="theta1 = 2 a l m / I (000 eq. 6); --theta1=-1/5 likewise")
+                    "verdict.  theta0 and theta1 are exact decimals or fractions (\"-0.002\", "
+                    "\"-1/5\"), read at the working precision.  Size limit: "
+                    f"|theta0| + 2|theta1| <= {sizes}; the work of one point is also bounded "
+                    f"(about {WORK_BUDGET_SECONDS} s by the cost model of pendulab.limits).")
+    p.add_argument("--theta0", required=True, metavar="THETA0",
+                   help="theta0 = -4 omega0^2/omega^2 (000 eq. 5), e.g. -0.002 or -1/5")
+    p.add_argument("--theta1", required=True, metavar="THETA1",
+                   help="theta1 = 2 a l m / I (000 eq. 6), e.g. 0.2 or 1/5")
     p.add_argument("--dps", type=int, default=None,
-                   help="decimal digits (default: double precision)")
+                   help=f"decimal digits, {describe('floquet.dps')} (default: double precision)")
     p.add_argument("--method", choices=("hill", "cf", "monodromy"), default="hill",
                    help="Hill's determinant, continued fractions, or monodromy matrix")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
@@ -31,6 +35,19 @@ def run(args):
     from pendulab.analyses.floquet_format import result_record
     from pendulab.io import canonical_json
 
+    from pendulab import limits
+    from pendulab.errors import InputError
+    from pendulab.analyses.floquet import SIZE_LIMITS, _check_size, _exact
+    if args.dps is not None:
+        limits.check("floquet.dps", args.dps, label="--dps")
+    # the numbers and the method's size limit first (their own messages), then the work
+    _check_size(_exact(args.theta0, "theta0"), _exact(args.theta1, "theta1"),
+                SIZE_LIMITS[args.method], f"method {args.method!r}")
+    work = limits.work_problem("floquet", {"points": [[args.theta0, args.theta1]], "ratios": [],
+                                           "dps": args.dps, "method": args.method},
+                               what="this point")
+    if work:
+        raise InputError(work)
     res = characteristic_exponent(args.theta0, args.theta1, dps=args.dps, method=args.method)
     rec = result_record(res, args.theta0, args.theta1)
     if args.json:

@@ -1,7 +1,5 @@
 """pendulab series --order N [--kind nu|a0|a1|b1|b2...] [--json|--latex|--python]"""
 
-import argparse
-
 
 def add_parser(sub):
     p = sub.add_parser(
@@ -10,13 +8,12 @@ def add_parser(sub):
                     "Kind 'nu' (default): theta0 = nu^2 + sum alpha_n theta1^n and the coefficients "
                     "c_n, s_n of cos/sin((nu + 2k) tau) (000 eqs. 20-22).  Kinds 'a0', 'a1', 'b1', "
                     "'b2', ...: the characteristic values a_m(q), b_m(q) as power series in q "
-                    "(DLMF 28.6, q = -theta1) with their radius of convergence.",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    from pendulab.products.series import MAX_PRODUCT_ORDER
+                    "(DLMF 28.6, q = -theta1) with their radius of convergence.")
+    from pendulab.limits import describe
     p.add_argument("--order", type=int, required=True,
-                   help=f"highest power of theta1 (or of q for the integer kinds), 1 to {MAX_PRODUCT_ORDER} "
-                        "(order 40 takes about 2 s; the Python API, pendulab.analyses.series, "
-                        "goes to 400)")
+                   help=f"highest power of theta1 (or of q for the integer kinds), "
+                        f"{describe('series.order')} (order 40 takes about 2 s; the Python API, "
+                        "pendulab.analyses.series, goes to 400)")
     p.add_argument("--kind", default="nu", help="nu, or a<m> / b<m> such as a0, b1")
     fmt = p.add_mutually_exclusive_group()
     fmt.add_argument("--json", action="store_true", help="print JSON (sympy-parsable strings)")

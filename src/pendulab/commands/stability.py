@@ -1,7 +1,5 @@
 """pendulab stability [--body rod|point | --inertia-ratio R] --ratio W0_OVER_W [--method M] [--json]"""
 
-import argparse
-
 
 def add_parser(sub):
     p = sub.add_parser(
@@ -9,18 +7,20 @@ def add_parser(sub):
         description="Lower and upper limits of a/l between which the inverted position of a "
                     "body on a vertically driven pivot is stable, for omega0/omega = W0_OVER_W, "
                     "by the exact Floquet curves or by the source's approximations "
-                    "(000_8cba66c4fdf94ac6.txt eqs. 12, 19, 28).",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+                    "(000_8cba66c4fdf94ac6.txt eqs. 12, 19, 28).")
+    from pendulab.limits import describe
     body = p.add_mutually_exclusive_group()
     body.add_argument("--body", choices=("rod", "point"),
                       help="rod: I/(m l^2) = 4/3; point: 1 (default: rod)")
     body.add_argument("--inertia-ratio", metavar="I_OVER_ML2",
-                      help="I/(m l^2) as a number >= 1 (instead of --body)")
+                      help=f"I/(m l^2), a number from {describe('stability.inertia_ratio')} "
+                           "(I = m l^2 + I0, I0 >= 0; instead of --body)")
     p.add_argument("--ratio", metavar="W0_OVER_W", required=True,
-                   help="omega0/omega, a number >= 0")
+                   help=f"omega0/omega, a number from {describe('stability.ratio')}")
     p.add_argument("--method", default="exact", metavar="METHOD",
-                   help="exact, eq12, eq19, eq19-corrected, eq28, series:N (2 <= N <= 40) or "
-                        "integer-series:N (the a_0, b_1 series, 1 <= N <= 40)")
+                   help="exact, eq12, eq19, eq19-corrected, eq28, series:N "
+                        f"(N {describe('stability.series_order')}) or integer-series:N "
+                        f"(the a_0, b_1 series, N {describe('stability.integer_series_order')})")
     p.add_argument("--json", action="store_true", help="print a JSON record")
     p.set_defaults(func=run)
     return p

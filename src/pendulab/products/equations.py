@@ -72,6 +72,10 @@ def variable_length_document(system, eqs, form, solution):
         "linear": _d(eqs.linear),
         "linear_about": _d(eqs.linear_about),
     }
+    from pendulab.systems import length_zero_note
+    note = length_zero_note(system)
+    if note is not None:  # only then: scenes whose length stays positive keep their bytes
+        doc["length_note"] = note
     if form is None:
         doc["canonical"] = {"kind": "linear",
                             "note": "L(t) is not of the form L0 + v0*t: the change of variable "

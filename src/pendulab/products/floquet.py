@@ -14,11 +14,13 @@ non-periodic drive is refused.  With scene ``[values]`` the file also holds
 are strings at ``dps`` digits; the file is byte-identical on every run.
 """
 
+from pendulab.limits import option as _limited
+
+#: Numeric options take type, default, range and help from pendulab.limits.LIMITS.
 OPTIONS = {
-    "points": (list, [["-0.002", "0.2"]],
-               "[theta0, theta1] pairs (strings such as \"-0.002\" or \"1/5\", or numbers)"),
-    "ratios": (list, ["0", "0.05", "0.1", "0.2"], "omega0/omega values for the exact limits of a/l"),
-    "dps": (int, 30, "decimal digits of every number written"),
+    "points": _limited("floquet.points"),
+    "ratios": _limited("floquet.ratios"),
+    "dps": _limited("floquet.dps"),
     "method": (str, "hill", "hill, cf or monodromy"),
 }
 SYSTEMS = ("kapitza",)
@@ -89,6 +91,47 @@ def scene_point(ctx, pmap, dps, method):
             "on_boundary": bool(v.on_boundary), "method": "monodromy (mp Taylor)", "dps": dps}
 
 
+def check_options(options):
+    """Every problem of ``options`` found without computing (scene validation calls this).
+
+    The method, each point's shape and numbers and its size limit for the
+    method (pendulab.analyses.floquet.SIZE_LIMITS), each ratio's number, and
+    the work of them all together (:func:`pendulab.limits.work_problem`).
+    One InputError listing every problem, "; "-joined.
+    """
+    from pendulab import limits
+    from pendulab.analyses.floquet import METHODS, SIZE_LIMITS, _check_size, _exact
+    from pendulab.errors import InputError
+    problems = []
+    method = options["method"]
+    if method not in METHODS:
+        problems.append(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    for i, pt in enumerate(options["points"]):
+        try:
+            if not isinstance(pt, list) or len(pt) != 2:
+                raise InputError(f"points[{i}] must be a [theta0, theta1] pair, got {pt!r}"[:80])
+            x0 = _exact(_text(pt[0], f"points[{i}][0]"), f"points[{i}][0]")
+            x1 = _exact(_text(pt[1], f"points[{i}][1]"), f"points[{i}][1]")
+            if method in METHODS:
+                _check_size(x0, x1, SIZE_LIMITS[method], f"method {method!r}",
+                            names=(f"points[{i}][0]", f"points[{i}][1]"))
+        except InputError as exc:
+            problems.append(str(exc).replace("floquet product: ", ""))
+    for i, r in enumerate(options["ratios"]):
+        try:
+            _exact(_text(r, f"ratios[{i}]"), f"ratios[{i}]")
+        except InputError as exc:
+            problems.append(str(exc).replace("floquet product: ", ""))
+    if not problems:
+        work = limits.work_problem("floquet", options)
+        if work:
+            problems.append(work)
+    if problems:
+        err = InputError("; ".join(problems))
+        err.problems = problems
+        raise err
+
+
 def produce(ctx, options):
     import sympy as sp
 
@@ -102,8 +145,12 @@ def produce(ctx, options):
     method = options["method"]
     if method not in METHODS:
         raise InputError(f"floquet product: method must be one of {', '.join(METHODS)}, got {method!r}")
-    if not 1 <= dps <= 1000:
-        raise InputError(f"floquet product: dps must be between 1 and 1000, got {dps}")
+    from pendulab import limits
+    for key in ("dps", "points", "ratios"):
+        limits.check(f"floquet.{key}", options[key], label=f"floquet product: {key}")
+    work = limits.work_problem("floquet", options)
+    if work:
+        raise InputError(f"floquet product: {work}")
     points = []
     for i, pt in enumerate(options["points"]):
         if not isinstance(pt, list) or len(pt) != 2:

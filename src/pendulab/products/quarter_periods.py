@@ -10,9 +10,12 @@ appear in the "bessel" product, which also checks the identities.
 
 from pendulab.io import canonical_json
 
+from pendulab.limits import option as _limited
+
+#: Type, default, range and help from pendulab.limits.LIMITS.
 OPTIONS = {
-    "count": (int, 8, "how many quarter periods (growing: of each kind; shortening: in all), 1 to 10000"),
-    "dps": (int, 30, "significant digits of the zeros and durations, 1 to 1000"),
+    "count": _limited("quarter_periods.count"),
+    "dps": _limited("quarter_periods.dps"),
 }
 SYSTEMS = ("variable-length",)
 
@@ -20,10 +23,13 @@ SYSTEMS = ("variable-length",)
 def produce(ctx, options):
     from pendulab.analyses.bessel_periods import quarter_periods
     from pendulab.errors import InputError
+    from pendulab import limits
     from pendulab.products.bessel import direction_from_stage, quarter_record
-    if not 1 <= options["count"] <= 10_000 or not 1 <= options["dps"] <= 1000:
-        raise InputError(f"quarter_periods product: count must be from 1 to 10000 and dps from 1 to "
-                         f"1000, got {options['count']} and {options['dps']}")
+    for key in ("count", "dps"):
+        limits.check(f"quarter_periods.{key}", options[key], label=f"quarter_periods: {key}")
+    work = limits.work_problem("quarter_periods", options)
+    if work:
+        raise InputError(f"quarter_periods product: {work}")
     direction = direction_from_stage(ctx)
     q = quarter_periods(options["count"], options["dps"], direction)
     doc = {

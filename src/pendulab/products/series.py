@@ -19,14 +19,16 @@ by ``pendulab series`` on the command line.
 
 from pendulab.latex import LINE_WIDTH, brace_group  # LINE_WIDTH: widest line of visible math
 
+from pendulab.limits import LIMITS as _LIMITS, option as _limited
+
+#: Type, default, range and help from pendulab.limits.LIMITS.
 OPTIONS = {
-    "order": (int, 8, "highest power of theta1 (and of q for the integer kinds), 1 to 60"),
-    "kinds": (list, ["nu", "a0", "b1"],
-              "'nu' for 000 eqs. 20-22, and integer kinds 'a0', 'a1', 'b1', 'b2', ... (DLMF 28.6)"),
+    "order": _limited("series.order"),
+    "kinds": _limited("series.kinds"),
 }
 SYSTEMS = ("kapitza",)
-#: highest order the product and the command accept
-MAX_PRODUCT_ORDER = 60
+#: highest order the product and the command accept (pendulab.limits.LIMITS["series.order"])
+MAX_PRODUCT_ORDER = _LIMITS["series.order"][2]
 
 
 # -- checks ------------------------------------------------------------------------------
@@ -41,8 +43,14 @@ def check_request(order, kinds, where="series"):
     if not isinstance(kinds, list) or not kinds:
         problems.append(f"kinds must be a non-empty list, got {kinds!r}")
         kinds = []
+    elif len(kinds) > _LIMITS["series.kinds"][2]:
+        problems.append(f"kinds must have at most {_LIMITS['series.kinds'][2]} entries, "
+                        f"got {len(kinds)}")
     seen = set()
     for kind in kinds:
+        if not isinstance(kind, str):
+            problems.append(f"each kind must be a string such as 'nu' or 'a0', got {kind!r}"[:80])
+            continue
         if kind in seen:
             problems.append(f"kind {kind!r} is listed twice")
         seen.add(kind)
@@ -53,7 +61,14 @@ def check_request(order, kinds, where="series"):
         except InputError as exc:
             problems.append(str(exc) if kind != "" else "kind '' is empty")
     if problems:
-        raise InputError(f"{where}: " + "; ".join(problems))
+        err = InputError((f"{where}: " if where else "") + "; ".join(problems))
+        err.problems = problems
+        raise err
+
+
+def check_options(options):
+    """Scene validation: every problem of the options, one InputError (no prefix)."""
+    check_request(options["order"], options["kinds"], where=None)
 
 
 # -- JSON ----------------------------------------------------------------------------------

@@ -19,12 +19,13 @@ from fractions import Fraction
 
 from pendulab.errors import InputError
 
+from pendulab.limits import LIMITS as _LIMITS, option as _limited
+
+#: Numeric options take type, default, range and help from pendulab.limits.LIMITS.
 OPTIONS = {
-    "points": (int, 21, "number of omega0/omega values, evenly spaced in [0, max_ratio]"),
-    "max_ratio": (str, "1", "largest omega0/omega of the grid (a decimal or fraction)"),
-    "methods": (list, ["exact", "eq12", "eq19", "eq19-corrected", "eq28", "series:4"],
-                "methods to compare (exact, eq12, eq19, eq19-corrected, eq28, series:N, "
-                "integer-series:N)"),
+    "points": _limited("stability.points"),
+    "max_ratio": _limited("stability.max_ratio"),
+    "methods": _limited("stability.methods"),
     "figure": (bool, True, "also draw stability.svg (needs matplotlib)"),
 }
 SYSTEMS = ("kapitza",)
@@ -45,15 +46,41 @@ def _round(value):
 
 def grid(points, max_ratio):
     """``points`` values k max_ratio/(points - 1), k = 0..points-1, as floats (exact fractions first)."""
-    if isinstance(points, bool) or not isinstance(points, int) or not 2 <= points <= 1001:
-        raise InputError(f"points must be an integer between 2 and 1001, got {points!r}")
+    _kind, low, high, _default, _help = _LIMITS["stability.points"]
+    if isinstance(points, bool) or not isinstance(points, int) or not low <= points <= high:
+        raise InputError(f"points must be an integer between {low} and {high}, got {points!r}")
     try:
         top = Fraction(str(max_ratio))
     except (ValueError, ZeroDivisionError):
         raise InputError(f"max_ratio must be a decimal or a fraction, got {max_ratio!r}") from None
-    if not 0 < top <= 10:
-        raise InputError(f"max_ratio must be in (0, 10], got {max_ratio!r}")
+    _kind, low, high, _default, _help = _LIMITS["stability.max_ratio"]
+    if not low < top <= high:
+        raise InputError(f"max_ratio must be in ({low}, {high}], got {max_ratio!r}")
     return [float(top * k / (points - 1)) for k in range(points)]
+
+
+def check_options(options):
+    """Scene validation: the grid and every method, one InputError listing the problems."""
+    from pendulab.analyses.stability import parse_method
+    problems = []
+    try:
+        grid(options["points"], options["max_ratio"])
+    except InputError as exc:
+        problems.append(str(exc))
+    for method in options["methods"]:
+        try:
+            parse_method(method)
+        except InputError as exc:
+            problems.append(str(exc))
+    if not problems:
+        from pendulab.limits import work_problem
+        work = work_problem("stability", options)
+        if work:
+            problems.append(work)
+    if problems:
+        err = InputError("; ".join(problems))
+        err.problems = problems
+        raise err
 
 
 def _inertia_ratio(system):

@@ -1,0 +1,244 @@
+"""One table of the ranges of every numeric option (scenes, command line, API).
+
+``LIMITS`` maps an option's name, ``<product or command>.<option>``, to
+``(type, min, max, default, help)``:
+
+* ``int`` / ``float``: the value itself lies in [min, max];
+* ``list``: the number of entries lies in [min, max];
+* ``"fraction"``: a decimal or fraction given as text (``"1/2"``), whose value
+  lies in (min, max] (an open minimum: 0 itself is not a ratio to scale by).
+
+``default`` is the value a scene gets when it leaves the option out (``None``:
+the command line's own default, or required).  The ranges are chosen so that
+the worst accepted value finishes in about a minute or less on one core; the
+measurements are in docs/scenes.md ("Limits").
+
+Scene validation (:func:`pendulab.scene.validate_options`) checks every
+product option listed here with the scene's other problems; the products and
+the commands check the same entries (:func:`check`) when called directly.
+
+>>> check("series.order", 12)
+12
+>>> check("series.order", 0)
+Traceback (most recent call last):
+...
+pendulab.errors.InputError: series.order must be an integer from 1 to 60, got 0
+>>> describe("floquet.points")
+'1 to 100 entries'
+"""
+
+from fractions import Fraction
+
+from pendulab.errors import InputError
+
+#: Most distinct frequencies a drive (a trigonometric polynomial in t) may have:
+#: 64 harmonics derive in about 6 s (docs/scenes.md, "Limits").
+MAX_HARMONICS = 64
+
+LIMITS = {
+    # product "floquet" (and ``pendulab floquet --dps``)
+    "floquet.dps": (int, 1, 1000, 30,
+                    "decimal digits of every number written"),
+    "floquet.points": (list, 1, 100, [["-0.002", "0.2"]],
+                       "[theta0, theta1] pairs (strings such as \"-0.002\" or \"1/5\", or numbers)"),
+    "floquet.ratios": (list, 0, 20, ["0", "0.05", "0.1", "0.2"],
+                       "omega0/omega values for the exact limits of a/l"),
+    # product "quarter_periods"
+    "quarter_periods.count": (int, 1, 10000, 8,
+                              "how many quarter periods (growing: of each kind; shortening: in all)"),
+    "quarter_periods.dps": (int, 1, 1000, 30, "significant digits of the zeros and durations"),
+    # product "series" (and ``pendulab series --order``)
+    "series.order": (int, 1, 60, 8,
+                     "highest power of theta1 (and of q for the integer kinds)"),
+    "series.kinds": (list, 1, 12, ["nu", "a0", "b1"],
+                     "'nu' for 000 eqs. 20-22, and integer kinds 'a0', 'a1', 'b1', 'b2', ... "
+                     "(DLMF 28.6)"),
+    # product "stability"
+    "stability.points": (int, 2, 401, 21,
+                         "number of omega0/omega values, evenly spaced in [0, max_ratio]"),
+    "stability.max_ratio": ("fraction", 0, 10, "1",
+                            "largest omega0/omega of the grid (a decimal or fraction)"),
+    "stability.methods": (list, 1, 12, ["exact", "eq12", "eq19", "eq19-corrected", "eq28",
+                                        "series:4"],
+                          "methods to compare (exact, eq12, eq19, eq19-corrected, eq28, "
+                          "series:N, integer-series:N)"),
+    # ``pendulab stability`` and the stability methods (pendulab.analyses.stability)
+    "stability.ratio": (float, 0, 1000, None, "omega0/omega"),
+    "stability.inertia_ratio": (float, 1, 1000, None,
+                                "I/(m l^2) (I = m l^2 + I0 with I0 >= 0)"),
+    "stability.series_order": (int, 2, 40, None, "N of the method series:N"),
+    "stability.integer_series_order": (int, 1, 40, None, "N of the method integer-series:N"),
+}
+
+
+def _show(value):
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def spec(name):
+    """``(type, min, max, default, help)`` of option ``name`` (KeyError if unknown)."""
+    return LIMITS[name]
+
+
+def describe(name):
+    """The range of ``name`` in words: '1 to 60', '1 to 100 entries', 'above 0, at most 10'."""
+    kind, low, high, _default, _help = LIMITS[name]
+    if kind is list:
+        return f"{low} to {high} entries"
+    if kind == "fraction":
+        return f"above {low}, at most {high}"
+    return f"{low:g} to {high:g}" if kind is float else f"{low} to {high}"
+
+
+def option(name):
+    """The product OPTIONS entry ``(type, default, help)`` of ``name``, its range in the help."""
+    kind, _low, _high, default, text = LIMITS[name]
+    return (str if kind == "fraction" else kind, default, f"{text} ({describe(name)})")
+
+
+def check(name, value, label=None):
+    """Return ``value`` if it is of the type and in the range of ``name``; else InputError.
+
+    ``label`` names the value in the message (default ``name``; ``""``: no
+    name, for a scene's problem that already names the key).  The message is
+    one line: ``<label> must be an integer from 1 to 60, got 0``.
+    """
+    kind, low, high, _default, _help = LIMITS[name]
+    label = name if label is None else label
+    label = label + " " if label else ""
+    if kind is int:
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+            raise InputError(f"{label}must be an integer from {low} to {high}, got {_show(value)}")
+        return value
+    if kind is float:
+        if (isinstance(value, bool) or not isinstance(value, (int, float, Fraction))
+                or not value == value or not low <= value <= high):
+            raise InputError(f"{label}must be a number from {low:g} to {high:g}, got {_show(value)}")
+        return value
+    if kind is list:
+        if not isinstance(value, list):
+            raise InputError(f"{label}must be a list, got {_show(value)}")
+        if not low <= len(value) <= high:
+            raise InputError(f"{label}must have {low} to {high} entries, got {len(value)}")
+        return value
+    if kind == "fraction":
+        try:
+            number = Fraction(str(value).strip()) if isinstance(value, (str, int)) and \
+                not isinstance(value, bool) else None
+        except (ValueError, ZeroDivisionError):
+            number = None
+        if number is None:
+            raise InputError(f"{label}must be a decimal or a fraction, got {_show(value)}")
+        if not low < number <= high:
+            raise InputError(f"{label}must be above {low} and at most {high}, got {_show(value)}")
+        return value
+    raise TypeError(f"unknown kind {kind!r} in pendulab.limits")  # a bug in this table
+
+
+# ---------------------------------------------------------------------------
+# Work that depends on several options at once
+# ---------------------------------------------------------------------------
+
+#: The most work (in estimated seconds of one core) a product or command may ask for.
+WORK_BUDGET_SECONDS = 60
+
+#: The cost model of one Floquet point: seconds ~ BASE + COEF * sqrt(1 + S) * max(1, dps/30)**EXP
+#: with S = |theta0| + 2|theta1|; (COEF, EXP) per method.  Fitted from above to the
+#: measurements in docs/scenes.md ("Limits"): the estimate is at least the time measured.
+FLOQUET_POINT_MODEL = {"hill": (1e-3, 0.5), "cf": (0.025, 0.5), "monodromy": (0.14, 1.5)}
+#: One exact stability limit (first band at omega0/omega = r): 0.1 + 0.2*sqrt(r)*max(1, dps/30)**0.6.
+FLOQUET_RATIO_MODEL = (0.1, 0.2, 0.6)
+_POINT_BASE = 0.02
+
+
+def _size(value):
+    """|x| of a number given as text or number (None when it is not one; its own check says so)."""
+    if isinstance(value, bool):
+        return None
+    try:
+        return abs(float(Fraction(str(value).strip()))) if isinstance(value, (str, int, float)) \
+            else None
+    except (ValueError, ZeroDivisionError, OverflowError):
+        return None
+
+
+def floquet_seconds(points, ratios, dps, method):
+    """Estimated seconds of Floquet work: ``points`` [theta0, theta1] pairs, ``ratios`` omega0/omega."""
+    coef, exp = FLOQUET_POINT_MODEL.get(method, FLOQUET_POINT_MODEL["monodromy"])
+    scale = max(1.0, (dps or 16) / 30)
+    total = 0.0
+    for pt in points:
+        if isinstance(pt, (list, tuple)) and len(pt) == 2:
+            x0, x1 = _size(pt[0]), _size(pt[1])
+            if x0 is not None and x1 is not None:
+                total += _POINT_BASE + coef * (1 + x0 + 2 * x1) ** 0.5 * scale ** exp
+    base, rcoef, rexp = FLOQUET_RATIO_MODEL
+    for r in ratios:
+        x = _size(r)
+        if x is not None:
+            total += base + rcoef * x ** 0.5 * scale ** rexp
+    return total
+
+
+#: Seconds per grid point of each stability method (fitted from above to measurements,
+#: docs/scenes.md): fixed methods, then series:N ~ 0.005 + 0.0025 N**1.4 and
+#: integer-series:N ~ 0.002 + 0.0002 N.
+STABILITY_METHOD_SECONDS = {"exact": 0.08, "eq12": 0.002, "eq19": 0.002, "eq19-corrected": 0.002,
+                            "eq28": 0.002}
+
+
+def stability_seconds(points, methods):
+    """Estimated seconds of the stability product: ``points`` grid values times each method."""
+    per_point = 0.0
+    for method in methods:
+        if not isinstance(method, str):
+            continue
+        kind, _, order = method.partition(":")
+        n = int(order) if order.isdigit() else 0
+        if kind == "series":
+            per_point += 0.005 + 0.0025 * n ** 1.4
+        elif kind == "integer-series":
+            per_point += 0.002 + 0.0002 * n
+        else:
+            per_point += STABILITY_METHOD_SECONDS.get(method, 0.0)
+    return points * per_point
+
+
+#: Largest count x dps of the certified zeros behind quarter periods (docs/bessel.md, benchmarks).
+QUARTER_PERIOD_WORK = 1_000_000
+
+
+def work_problem(product, options, what="the points and ratios asked"):
+    """A one-line problem when ``options`` of ``product`` would pass :data:`WORK_BUDGET_SECONDS`."""
+    if product == "stability":
+        points, methods = options.get("points"), options.get("methods")
+        if not isinstance(points, int) or not isinstance(methods, list):
+            return None
+        seconds = stability_seconds(points, methods)
+        if seconds <= WORK_BUDGET_SECONDS:
+            return None
+        return (f"{points} points with these methods would take about {seconds:.1f} s by the "
+                f"cost model of pendulab.limits (limit {WORK_BUDGET_SECONDS} s): ask for fewer "
+                "points or lower series orders")
+    if product == "quarter_periods":
+        count, dps = options.get("count"), options.get("dps")
+        if isinstance(count, int) and isinstance(dps, int) and count * dps > QUARTER_PERIOD_WORK:
+            return (f"count x dps = {count * dps} is more than {QUARTER_PERIOD_WORK} (10000 zeros "
+                    "at 100 digits, or 1000 at 1000, take about a minute): ask for fewer or "
+                    "shorter numbers")
+        return None
+    if product != "floquet":
+        return None
+    points, ratios = options.get("points") or [], options.get("ratios") or []
+    if not isinstance(points, list) or not isinstance(ratios, list):
+        return None
+    dps = options.get("dps")
+    dps = dps if isinstance(dps, int) and not isinstance(dps, bool) else None
+    seconds = floquet_seconds(points, ratios, dps, options.get("method", "hill"))
+    if seconds <= WORK_BUDGET_SECONDS:
+        return None
+    fewer = "fewer points or ratios, " if len(points) + len(ratios) > 1 else ""
+    return (f"{what} would take about {seconds:.1f} s by the cost model of pendulab.limits "
+            f"(limit {WORK_BUDGET_SECONDS} s): ask for {fewer}a lower dps, a smaller "
+            "|theta0| + 2|theta1| or method 'hill'")
