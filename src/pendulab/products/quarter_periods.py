@@ -20,6 +20,15 @@ OPTIONS = {
 SYSTEMS = ("variable-length",)
 
 
+def check_options(options):
+    """The work of count and dps together, checked at scene validation (pendulab.limits)."""
+    from pendulab import limits
+    from pendulab.errors import InputError
+    work = limits.work_problem("quarter_periods", options)
+    if work:
+        raise InputError(work)
+
+
 def produce(ctx, options):
     from pendulab.analyses.bessel_periods import quarter_periods
     from pendulab.errors import InputError
