@@ -11,7 +11,7 @@ import sys
 
 from pendulab import __version__
 
-COMMANDS = ("derive", "build", "series", "floquet", "stability")
+COMMANDS = ("derive", "build", "series", "floquet", "stability", "sweep", "simulate")
 
 
 def available_commands():
