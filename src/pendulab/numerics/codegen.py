@@ -46,14 +46,14 @@ import sympy as sp
 from pendulab.errors import InputError
 
 #: trajectories per block of the C kernel (the vectorised inner loop's length)
-LANES = 8
+LANES = 32
 
 #: |x| up to which pendulab_sin/pendulab_cos are used (their reduction is exact
-#: while k = round(2 x / pi) < 2^20 because the first part of pi/2 has 33 bits)
-SIN_LIMIT = 2.0 ** 19
+#: while k = round(x / pi) < 2^20 because the first parts of pi have 33 bits)
+SIN_LIMIT = 2.0 ** 20
 
-#: bits in each of the first two parts of pi/2 of the Cody-Waite reduction
-_PIO2_BITS = 33
+#: bits in each of the first two parts of pi of the Cody-Waite reduction
+_PI_BITS = 33
 
 
 def _banner(origin, command, comment):
@@ -257,36 +257,35 @@ def _c_printer(fast):
     return Printer({"strict": True})
 
 
-def _pio2_parts():
-    """pi/2 = P1 + P2 + P3 (P1, P2 with 33 significant bits, P3 rounded to a double)."""
+def _pi_parts():
+    """pi = P1 + P2 + P3: P1, P2 with 33 significant bits (so k P1, k P2 are exact for
+    |k| < 2^20), P3 the rest rounded to a double; computed with mpmath at 300 bits."""
     import mpmath
     with mpmath.workprec(300):
-        rest = mpmath.pi / 2
+        rest = +mpmath.pi
         parts = []
-        for bits in (_PIO2_BITS, _PIO2_BITS, 53):
+        for bits in (_PI_BITS, _PI_BITS, 53):
             m, e = mpmath.frexp(rest)
-            part = mpmath.ldexp(mpmath.floor(mpmath.ldexp(m, bits)) if bits < 53
-                                else mpmath.nint(mpmath.ldexp(m, bits)), e - bits)
+            scaled = mpmath.ldexp(m, bits)
+            part = mpmath.ldexp(mpmath.floor(scaled) if bits < 53 else mpmath.nint(scaled), e - bits)
             parts.append(float(part))
-            if float(part) != part:
-                raise AssertionError("part of pi/2 not exact in double")
             rest -= part
     return parts
 
 
-def _taylor(kind):
-    """(coefficients as doubles, highest power) of the Taylor polynomial on [-pi/4, pi/4].
+def _sin_taylor():
+    """(coefficients as doubles, degree) of sin r = r + r^3 (s1 + s2 z + ...), z = r^2.
 
-    sin r = r + r^3 (s1 + s2 z + ...), cos r = 1 + z (c1 + c2 z + ...) with z = r^2; the
-    first omitted term is below 2^-60 at r = pi/4 (the bound is computed exactly here).
+    s_j = (-1)^j / (2 j + 1)!; the degree is the least for which the first omitted term
+    at r = pi/2 (the end of the reduced range [-pi/2, pi/2]), relative to sin r >= 2 r / pi,
+    is below 2^-60 (bound computed exactly here).
     """
-    r = sp.pi / 4
-    first = 3 if kind == "sin" else 2
-    coeffs, n = [], first
+    r = sp.pi / 2
+    coeffs, n = [], 3
     while True:
-        coeffs.append(sp.Rational((-1) ** ((n - first) // 2 + 1), sp.factorial(n)))
+        coeffs.append(sp.Rational((-1) ** ((n - 1) // 2), sp.factorial(n)))
         nxt = n + 2
-        if (r ** nxt / sp.factorial(nxt)).evalf(30) < sp.Rational(1, 2 ** 60):
+        if (r ** nxt / sp.factorial(nxt) * sp.pi / 2).evalf(30) < sp.Rational(1, 2 ** 60):
             return [float(c) for c in coeffs], n
         n = nxt
 
@@ -386,6 +385,7 @@ def c_kernel(fos, origin=None, command="pendulab build"):
     variants, drivers, nterms = [], [], 1
     point_args = "".join(f", P[{i}][j]" for i in range(len(fos.params)))
     path_args = "".join(f", p[{i}]" for i in range(len(fos.params)))
+    points_args = "".join(f", pp[{i}]" for i in range(len(fos.params)))
     rerun = {}
     for linear in (False, True):
         for fast in (True, False):
@@ -395,9 +395,8 @@ def c_kernel(fos, origin=None, command="pendulab build"):
             if fast:
                 rerun[linear] = 1 if trig else 0
             drivers.append(env.get_template("rk4_block.c.j2").render(tag=tag, point_args=point_args))
-    s_coef, s_deg = _taylor("sin")
-    c_coef, c_deg = _taylor("cos")
-    p1, p2, p3 = _pio2_parts()
+    s_coef, s_deg = _sin_taylor()
+    p1, p2, p3 = _pi_parts()
     return env.get_template("rhs_kernel.c.j2").render(
         banner=_banner(origin, command, "/*") + " */",
         name=fos.name,
@@ -408,10 +407,10 @@ def c_kernel(fos, origin=None, command="pendulab build"):
         nterms=nterms,
         lanes=LANES,
         sin_limit=repr(SIN_LIMIT),
-        two_over_pi=repr(float(2 / sp.pi)),
-        pio2_1=repr(p1), pio2_2=repr(p2), pio2_3=repr(p3),
+        one_over_pi=repr(float(1 / sp.pi)),
+        pi_1=repr(p1), pi_2=repr(p2), pi_3=repr(p3),
+        half_pi_1=repr(p1 / 2), half_pi_2=repr(p2 / 2), half_pi_3=repr(p3 / 2),
         sin_poly=_horner(s_coef, "z"), sin_degree=s_deg,
-        cos_poly=_horner(c_coef, "z"), cos_degree=c_deg,
         rhs_text=str(fos.rhs[1]),
         linear_text=str(fos.linear_rhs[1]),
         variants="\n\n".join(variants),
@@ -419,4 +418,5 @@ def c_kernel(fos, origin=None, command="pendulab build"):
         rerun_nonlinear=rerun[False],
         rerun_linear=rerun[True],
         path_args=path_args,
+        points_args=points_args,
     )

@@ -136,12 +136,7 @@ def _kernel(fos, backend):
     """The compiled kernel for ``backend`` ("c" or "auto"), or None for NumPy."""
     if backend == "numpy":
         return None
-    try:
-        from pendulab.numerics import ckernel
-    except ImportError:  # the C kernel lands in the next commit
-        if backend == "c":
-            raise InputError("the C kernel is not available in this version") from None
-        return None
+    from pendulab.numerics import ckernel
     return ckernel.load(fos, required=(backend == "c"))
 
 
