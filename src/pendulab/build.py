@@ -20,7 +20,7 @@ MANIFEST = "manifest.json"
 
 
 def _sha(text):
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+    return hashlib.sha256(text if isinstance(text, bytes) else text.encode("utf-8")).hexdigest()
 
 
 def input_hash(scene):
@@ -37,7 +37,7 @@ def _up_to_date(directory, digest):
         return False
     for name, sha in data.get("files", {}).items():
         try:
-            if _sha((directory / name).read_text(encoding="utf-8")) != sha:
+            if _sha((directory / name).read_bytes()) != sha:
                 return False
         except OSError:
             return False

@@ -37,7 +37,7 @@ def write_text_atomic(path, text):
 
 
 def write_tree(directory, files):
-    """Replace ``directory`` by exactly ``files`` (relative name -> text).
+    """Replace ``directory`` by exactly ``files`` (relative name -> text, or bytes for figures).
 
     The files are written into a sibling temporary directory which then takes
     the place of ``directory``; if anything fails before the swap, the old
@@ -53,8 +53,12 @@ def write_tree(directory, files):
             if target.resolve().parent != tmp.resolve() and tmp.resolve() not in target.resolve().parents:
                 raise ValueError(f"product file name {name!r} leaves the output directory")
             target.parent.mkdir(parents=True, exist_ok=True)
-            with open(target, "w", encoding="utf-8", newline="\n") as fh:
-                fh.write(text)
+            if isinstance(text, bytes):  # figures (PNG, PDF)
+                with open(target, "wb") as fh:
+                    fh.write(text)
+            else:
+                with open(target, "w", encoding="utf-8", newline="\n") as fh:
+                    fh.write(text)
         if directory.exists():
             old = directory.with_name(f".{directory.name}.old-{os.getpid()}")
             if old.exists():

@@ -22,6 +22,8 @@ PRODUCTS = {
     "floquet": "pendulab.products.floquet",
     "stability": "pendulab.products.stability",
     "quarter_periods": "pendulab.products.quarter_periods",
+    "kernels": "pendulab.products.kernels",
+    "experiments": "pendulab.products.experiments",
 }
 
 

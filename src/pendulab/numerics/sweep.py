@@ -93,8 +93,22 @@ class SystemSpec:
         return self.body
 
 
-@lru_cache(maxsize=8)
+_STAGES = {}
+
+
+def use_stages(spec, equations, form):
+    """Let this process reuse a pipeline's equations and canonical stages for ``spec``
+    (a product already has them; deriving again costs seconds).  Workers derive their own."""
+    _STAGES[spec] = (equations, form)
+
+
 def _stages(spec):
+    if spec not in _STAGES:
+        _STAGES[spec] = _derive(spec)
+    return _STAGES[spec]
+
+
+def _derive(spec):
     from pendulab.canonical import periodic_form
     from pendulab.equations import derive
     from pendulab.exprs import parse
