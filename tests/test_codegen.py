@@ -256,3 +256,17 @@ def test_failing_compiler_falls_back_to_numpy_with_one_notice(tmp_path, monkeypa
         assert "broken on purpose" in lines[0]
     assert "\n" not in str(info.value)
     assert not list(tmp_path.rglob("*.so"))
+
+
+def test_availability_follows_the_compiler(tmp_path, monkeypatch):
+    monkeypatch.setenv("PENDULAB_CACHE_DIR", str(tmp_path / "cache"))
+    ckernel.clear_loaded()
+    try:
+        assert integrate.c_kernel_available() is True
+        assert integrate.c_kernel_available(system("rod")) is True
+        ckernel.clear_loaded()
+        monkeypatch.setenv("PENDULAB_CC", str(_script(tmp_path / "cc-broken", "exit 1\n")))
+        assert integrate.c_kernel_available() is False
+        assert integrate.c_kernel_available(system("rod")) is False
+    finally:
+        ckernel.clear_loaded()

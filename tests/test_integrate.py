@@ -99,7 +99,7 @@ def test_beyond_the_fast_sine_range_the_library_sine_is_used():
     p = [[0.2, 0.05], [0.2, 0.05]]
     c = ensemble_rk4(fos, y0, p, 0.0, 0.01, 400, backend="c")
     py = ensemble_rk4(fos, y0, p, 0.0, 0.01, 400, backend="numpy")
-    assert c.max_abs_theta[0] > limit
+    assert c.max_abs_theta[0] > limit and c.exact_blocks == 1
     np.testing.assert_allclose(c.y, py.y, rtol=1e-12)
     np.testing.assert_allclose(c.mean_theta, py.mean_theta, rtol=1e-12)
 
@@ -217,3 +217,16 @@ def test_bad_input_of_the_single_trajectory_calls(call, fragment):
 
 def test_default_threads_is_positive():
     assert integrate.default_threads() >= 1
+
+
+def test_a_large_time_argument_also_takes_the_library_sine():
+    # L(t) = L0 (1 + e cos(w t)) far out in time: sin(w t) beyond SIN_LIMIT, theta small
+    fos = system("string-periodic")
+    t0 = 3.0 * codegen.SIN_LIMIT
+    p = [1.0, 0.2, 9.81, 1.7]
+    c = ensemble_rk4(fos, [[0.1, 0.0]], p, t0, 0.01, 300, backend="c")
+    py = ensemble_rk4(fos, [[0.1, 0.0]], p, t0, 0.01, 300, backend="numpy")
+    assert c.max_abs_theta[0] < 1.0 and c.exact_blocks == 1
+    calm = ensemble_rk4(fos, [[0.1, 0.0]], p, 0.0, 0.01, 300, backend="c")
+    assert calm.exact_blocks == 0
+    np.testing.assert_allclose(c.y, py.y, rtol=1e-9, atol=1e-12)

@@ -155,7 +155,7 @@ class Kernel:
         self.flags = tuple(flags)
         lib = ctypes.CDLL(str(path))
         lib.pendulab_ensemble_rk4.argtypes = [_L, _PD, _PD, _D, _D, _L, _I, _I, _PD, _PD, _PD, _PD]
-        lib.pendulab_ensemble_rk4.restype = _I
+        lib.pendulab_ensemble_rk4.restype = _L
         lib.pendulab_rk4_path.argtypes = [_PD, _PD, _D, _D, _L, _I, _PD]
         lib.pendulab_rk4_path.restype = None
         lib.pendulab_rhs_points.argtypes = [_L, _PD, _PD, _PD, _I, _PD]
@@ -171,7 +171,8 @@ class Kernel:
         return p
 
     def ensemble(self, y0, p, t0, dt, steps, linear=False, stats=True, threads=1):
-        """(y (n, 2), mean (n,), mean |theta| (n,), max |theta| (n,)); y0 (n, 2), p (n, k)."""
+        """(y (n, 2), mean (n,), mean |theta| (n,), max |theta| (n,), blocks rerun with the
+        library sine); y0 (n, 2), p (n, k)."""
         y0 = np.ascontiguousarray(y0, dtype=float)
         n = y0.shape[0]
         p = self._params(p, n)
@@ -180,11 +181,11 @@ class Kernel:
         status = self._lib.pendulab_ensemble_rk4(n, _ptr(y0), _ptr(p), t0, dt, steps, int(linear),
                                                  int(threads), _ptr(y), _ptr(mean), _ptr(mabs),
                                                  _ptr(mx))
-        if status != 0:
+        if status < 0:
             raise InputError("the C kernel could not start its threads (out of memory?)")
         if not stats:
             mean[:] = mabs[:] = mx[:] = np.nan
-        return y, mean, mabs, mx
+        return y, mean, mabs, mx, int(status)
 
     def path(self, y0, p, t0, dt, steps, linear=False):
         """One trajectory, states (steps + 1, 2), the C library's sine."""
@@ -259,6 +260,39 @@ def _build(source, nparams):
         except OSError as exc:
             errors.append(_first_line(str(exc)))
     return f"{cmd[0]} failed: {errors[0] if errors else 'unknown error'}"
+
+
+_PROBE = "int pendulab_probe(void) { return 1; }\n"
+
+
+def available(fos=None):
+    """Whether C kernels can be built here (of ``fos``, or a probe; no notice is printed)."""
+    if fos is not None:
+        from pendulab.numerics.codegen import c_kernel
+        key = hashlib.sha256(c_kernel(fos).encode()).hexdigest()
+        if key not in _LOADED:
+            _LOADED[key] = _build(c_kernel(fos), len(fos.params))
+        return isinstance(_LOADED[key], Kernel)
+    key = ("probe", tuple(compiler_command()))
+    if key not in _LOADED:
+        _LOADED[key] = _probe()
+    return _LOADED[key]
+
+
+def _probe():
+    cmd = compiler_command()
+    identity = _identity(cmd) if cmd else None
+    if identity is None:
+        return False
+    for flags in FLAG_SETS:
+        target = cache_dir() / f"probe-{_key(_PROBE, identity, flags)}.so"
+        try:
+            if target.exists() or _compile(_PROBE, cmd, flags, target) is None:
+                ctypes.CDLL(str(target)).pendulab_probe()
+                return True
+        except (OSError, AttributeError):
+            continue
+    return False
 
 
 def clear_loaded():

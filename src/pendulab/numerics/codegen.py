@@ -83,10 +83,21 @@ class Lowered:
     outputs: tuple
 
 
+#: names a symbol may not take in generated C (keywords, the math library, the kernel's own)
+_C_RESERVED = frozenset("""
+    auto break case char const continue default do double else enum extern float for goto if
+    inline int long register restrict return short signed sizeof static struct switch typedef
+    union unsigned void volatile while acos asin atan atan2 cos sin tan cosh sinh tanh exp log
+    log10 pow sqrt cbrt fabs floor ceil fmod fmax fmin hypot erf erfc tgamma lgamma expm1 log1p
+    M_PI M_E NAN INFINITY
+""".split())
+
+
 def _check_names(fos):
     names = [fos.time.name] + [s.name for s in fos.states] + [s.name for s in fos.params]
     for name in names:
-        if not name.isidentifier() or keyword.iskeyword(name) or name.startswith("_"):
+        if (not name.isidentifier() or keyword.iskeyword(name) or name.startswith("_")
+                or name.startswith("pendulab") or name in _C_RESERVED):
             raise InputError(f"codegen: symbol {name!r} of system {fos.name!r} is not usable as a "
                              "variable name in generated code")
     if len(set(names)) != len(names):
@@ -315,37 +326,45 @@ def _c_point(fos, linear, fast):
     t = fos.time.name
     nterms = len([s for s, _ in low.time_terms if s.name.startswith("_c")])
     # time terms: once per time level and block, C library functions
-    tlines = [f"static inline void time_terms_{tag}(double {t}, double *restrict c)", "{"]
+    tlines = [f"static inline void time_terms_{tag}(double {t}, double *restrict _c)", "{"]
     if not low.time_terms:
         tlines.append(f"    (void){t};")
-        tlines.append("    (void)c;")
+        tlines.append("    (void)_c;")
     index = {}
     for sym, e in low.time_terms:
-        text = _strict(pr_exact, e.subs({s: sp.Symbol(f"c[{index[s]}]") for s in index}), where)
+        text = _strict(pr_exact, e.subs({s: sp.Symbol(f"_c[{index[s]}]") for s in index}), where)
         if sym.name.startswith("_c"):
             index[sym] = len(index)
-            tlines.append(f"    c[{index[sym]}] = {text};")
+            tlines.append(f"    _c[{index[sym]}] = {text};")
         else:
             tlines.append(f"    const double {sym.name} = {text};")
     tlines.append("}")
     # point function: one trajectory at one stage
     params = "".join(f", double {s.name}" for s in fos.params)
     th, dth = (s.name for s in fos.states)
-    plines = [f"static inline void point_{tag}(const double *restrict c, double {t}, double {th}, "
-              f"double {dth}{params}, double *restrict f0, double *restrict f1)", "{"]
+    plines = [f"static inline void point_{tag}(const double *restrict _c, double {t}, double {th}, "
+              f"double {dth}{params}, double *restrict _f0, double *restrict _f1, double *restrict _g)",
+              "{"]
     used = set().union(*(e.free_symbols for e in low.outputs),
                        *(e.free_symbols for _, e in low.assignments))
     for name in [t, th, dth] + [s.name for s in fos.params]:
         if sp.Symbol(name) not in {sp.Symbol(u.name) for u in used}:
             plines.append(f"    (void){name};")
-    crep = {s: sp.Symbol(f"c[{i}]") for s, i in index.items()}
+    crep = {s: sp.Symbol(f"_c[{i}]") for s, i in index.items()}
     if not crep:
-        plines.append("    (void)c;")
+        plines.append("    (void)_c;")
     low2 = Lowered((), tuple((s, e.subs(crep)) for s, e in low.assignments),
                    tuple(e.subs(crep) for e in low.outputs))
     plines += _c_statements(low2, pr, "    ", where)
-    plines.append(f"    *f0 = {_strict(pr, low2.outputs[0], where)};")
-    plines.append(f"    *f1 = {_strict(pr, low2.outputs[1], where)};")
+    plines.append(f"    *_f0 = {_strict(pr, low2.outputs[0], where)};")
+    plines.append(f"    *_f1 = {_strict(pr, low2.outputs[1], where)};")
+    # g: the largest |argument| of the fast sine and cosine (NaN propagates), for the rerun test
+    args = sorted({a.args[0] for e in list(low2.outputs) + [e for _, e in low2.assignments]
+                   for a in e.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key)
+    g = "0.0"
+    for a in args:
+        g = f"pendulab_max_abs({_strict(pr_exact, a, where)}, {g})" if fast else g
+    plines.append(f"    *_g = {g};")
     plines.append("}")
     has_trig = any(e.has(sp.sin, sp.cos) for e in list(low2.outputs) + [e for _, e in low2.assignments])
     return tag, "\n".join(tlines), "\n".join(plines), nterms, has_trig

@@ -45,7 +45,11 @@ class EnsembleResult:
       (criterion ``mean``: |mean_theta| < 0.1);
     * ``mean_abs_theta`` - (n,): sum_i |theta_i| / (steps + 1) (``mean-abs``);
     * ``max_abs_theta`` - (n,): max_i |theta_i| (``bounded``: < pi/2);
-    * ``backend`` - "c" or "numpy", ``steps`` and ``dt`` as given.
+    * ``backend`` - "c" or "numpy", ``steps`` and ``dt`` as given;
+    * ``exact_blocks`` - C only: how many blocks of
+      :data:`~pendulab.numerics.codegen.LANES` trajectories met a sine argument
+      beyond :data:`~pendulab.numerics.codegen.SIN_LIMIT` and were integrated
+      again with the C library's sine (0 for NumPy, which always uses it).
 
     A trajectory that overflows has NaN or inf in all its statistics
     (a NaN state makes every later statistic NaN, in both backends).
@@ -58,6 +62,7 @@ class EnsembleResult:
     backend: str
     steps: int
     dt: float
+    exact_blocks: int = 0
 
 
 # -- input checks ---------------------------------------------------------------------------
@@ -138,6 +143,13 @@ def _kernel(fos, backend):
         return None
     from pendulab.numerics import ckernel
     return ckernel.load(fos, required=(backend == "c"))
+
+
+def c_kernel_available(fos=None):
+    """Whether :func:`ensemble_rk4` with backend "auto" runs compiled C here (for ``fos``,
+    or any system when None: a probe compile with the same compiler and flags)."""
+    from pendulab.numerics import ckernel
+    return ckernel.available(fos)
 
 
 def default_threads():
@@ -234,9 +246,9 @@ def ensemble_rk4(fos, y0, params, t0, dt, steps, *, linear=False, stats=True, ba
     n = y0.shape[0]
     kernel = _kernel(fos, backend) if n else None
     if kernel is not None:
-        out = kernel.ensemble(y0, p, t0, dt, steps, linear=linear, stats=stats,
-                              threads=threads or default_threads())
-        return EnsembleResult(*out, backend="c", steps=steps, dt=dt)
+        *out, reruns = kernel.ensemble(y0, p, t0, dt, steps, linear=linear, stats=stats,
+                                       threads=threads or default_threads())
+        return EnsembleResult(*out, backend="c", steps=steps, dt=dt, exact_blocks=reruns)
     out = _ensemble_numpy(fos, y0, p, t0, dt, steps, linear, stats)
     return EnsembleResult(*out, backend="numpy", steps=steps, dt=dt)
 
