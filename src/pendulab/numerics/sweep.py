@@ -534,20 +534,17 @@ def _token(spec, backend):
     return hashlib.sha256(repr((spec, backend)).encode()).hexdigest()[:16]
 
 
-def _auto_executor(spec, n_tasks):
-    """serial for small sweeps (spawning processes costs ~2-3 s: each re-derives the system);
-    local processes when the NumPy path does a large sweep; serial with the C kernel's own threads
-    when that kernel is available (it already uses both cores)."""
+def _auto_executor(spec, n_tasks, backend):
+    """The executor of ``executor="auto"``: in this process for small sweeps (starting processes
+    costs seconds: each one derives the system again) and whenever the C kernel runs (its threads
+    already use every core); local processes for a large sweep on the NumPy path."""
     work = spec.cells * spec.periods * spec.steps_per_period
     if n_tasks < 2 or work < 2e7:
         return "serial"
-    try:
-        from pendulab.numerics import integrate
-        has_c = getattr(integrate, "c_kernel_available", None)
-        if callable(has_c) and has_c():
+    if backend != "numpy":
+        from pendulab.numerics.integrate import c_kernel_available
+        if c_kernel_available(first_order_system(spec.system)):
             return "serial"
-    except ImportError:
-        pass
     return "processes"
 
 
@@ -639,7 +636,7 @@ def sweep(spec, *, executor="auto", workers=None, dask=None, backend="auto", qui
         if executor == "dask":
             raise InputError("executor 'dask' needs a scheduler address (dask=...)")
         if executor == "auto":
-            executor = _auto_executor(spec, len(tasks))
+            executor = _auto_executor(spec, len(tasks), backend)
     # build the system here first: a bad scene fails once, in this process, before any worker starts
     first_order_system(spec.system)
     _param_columns(spec.system, first_order_system(spec.system))
