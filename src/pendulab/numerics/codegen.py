@@ -197,8 +197,24 @@ def _signature_doc(fos):
             f"    p = ({params}), shape ({len(fos.params)}, ...).")
 
 
+_TEXTS = {}
+
+
+def _memo(kind, fos, origin, command, make):
+    """Generated text, remembered per system content (the integrators ask on every call)."""
+    key = (kind, fos.name, fos.time, fos.states, fos.params, tuple(fos.rhs),
+           tuple(fos.linear_rhs), origin, command)
+    if key not in _TEXTS:
+        _TEXTS[key] = make()
+    return _TEXTS[key]
+
+
 def numpy_module(fos, origin=None, command="pendulab build"):
     """The NumPy module text of ``fos`` (see the module docstring for its functions)."""
+    return _memo("numpy", fos, origin, command, lambda: _numpy_module(fos, origin, command))
+
+
+def _numpy_module(fos, origin, command):
     _check_names(fos)
     origin = origin or origin_of(fos=fos)
     sig = _signature_doc(fos)
@@ -399,6 +415,10 @@ def kernel_info(fos):
 
 def c_kernel(fos, origin=None, command="pendulab build"):
     """The C99 kernel text of ``fos`` (interface: :mod:`pendulab.numerics.ckernel`)."""
+    return _memo("c", fos, origin, command, lambda: _c_kernel(fos, origin, command))
+
+
+def _c_kernel(fos, origin, command):
     _check_names(fos)
     origin = origin or origin_of(fos=fos)
     env = _env()

@@ -29,7 +29,7 @@ SYSTEMS = ("kapitza", "variable-length")
 
 
 def _command(scene):
-    p = Path(scene.path) if scene.path else None
+    p = Path(scene.path).resolve() if scene.path else None
     where = f"{p.parent.name}/{p.name}" if p is not None and p.parent.name else (
         p.name if p is not None else f"{scene.name}.toml")
     return f"pendulab build {where}"
