@@ -273,3 +273,24 @@ def test_availability_follows_the_compiler(tmp_path, monkeypatch):
         assert integrate.c_kernel_available(system("rod")) is False
     finally:
         ckernel.clear_loaded()
+
+
+def test_the_same_bits_with_and_without_wide_vectors(tmp_path, monkeypatch, rng):
+    """No FMA contraction, the kernel's own sine: an SSE2 build equals the native build."""
+    fos = system("rod")
+    n = 150
+    y0 = np.column_stack([rng.uniform(-1, 1, n), rng.uniform(-1, 1, n)])
+    params = rng.uniform(0, 1, (n, 2))
+    native = ckernel.load(fos, required=True)
+    ckernel.clear_loaded()
+    monkeypatch.setattr(ckernel, "FLAG_SETS", ckernel.FLAG_SETS[-1:])
+    monkeypatch.setenv("PENDULAB_CACHE_DIR", str(tmp_path / "cache"))
+    try:
+        plain = ckernel.load(fos, required=True)
+    finally:
+        ckernel.clear_loaded()
+    assert "-march=native" in native.flags and "-march=native" not in plain.flags
+    a = native.ensemble(y0, params, 0.0, 0.05, 2000, threads=2)
+    b = plain.ensemble(y0, params, 0.0, 0.05, 2000, threads=1)
+    for u, v in zip(a[:4], b[:4]):
+        assert np.array_equal(u, v)

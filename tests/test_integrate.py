@@ -102,6 +102,9 @@ def test_beyond_the_fast_sine_range_the_library_sine_is_used():
     assert c.max_abs_theta[0] > limit and c.exact_blocks == 1
     np.testing.assert_allclose(c.y, py.y, rtol=1e-12)
     np.testing.assert_allclose(c.mean_theta, py.mean_theta, rtol=1e-12)
+    _, sc = rk4_trajectory(fos, y0[0], p[0], 0.0, 0.01, 400, backend="c")
+    _, sn = rk4_trajectory(fos, y0[0], p[0], 0.0, 0.01, 400, backend="numpy")
+    np.testing.assert_allclose(sc, sn, rtol=1e-12)
 
 
 def test_threads_do_not_change_a_bit(rng):

@@ -14,15 +14,23 @@ use, in this or any later process, loads the cached library without compiling.
   Each is written to a temporary file in that directory and renamed into place,
   so concurrent processes never load a half-written library.
 * Flags (:data:`FLAG_SETS`, the first that compiles): ``-O3 -std=c99
-  -fno-math-errno -ffp-contract=fast -fopenmp-simd -march=native
+  -fno-math-errno -ffp-contract=off -fopenmp-simd -march=native
   -mprefer-vector-width=512``, then without the vector width, then without
   ``-march=native``.  No ``-ffast-math``: no reassociation, no flush to zero, NaN
   and infinity kept; ``-fno-math-errno`` only stops library functions from
-  setting errno; ``-ffp-contract=fast`` fuses a*b + c into one correctly rounded
-  FMA where the CPU has it (never less accurate per operation; measured 1.6x
-  faster, and it keeps the sine's reduction exact further out).  The 512-bit
-  vectors take AVX-512 where present (measured 1.6x faster again).  Threads are POSIX threads created
-  and joined in each call, so the library is safe in forked worker processes.
+  setting errno.  ``-ffp-contract=off`` forbids fusing a*b + c into an FMA: with
+  it, and the kernel's own sine and cosine (:mod:`pendulab.numerics.codegen`),
+  every operation is an IEEE double operation in the order printed, so the
+  results are the same bits on every machine and vector width (an AVX-512 build
+  and an SSE2 build are compared bit for bit in the tests) as long as the
+  right-hand side has only arithmetic, integer powers, sin and cos (exp, log, a
+  real power are as the C library rounds them, and so is a block rerun with the
+  library sine).  FMA contraction was measured
+  1.7x faster but changes the bits with the machine, and chaotic trajectories
+  then change the verdicts of a few cells in 10^4 (see docs/numerics.md).
+  The 512-bit vectors take AVX-512 where present (measured 1.6x faster).
+  Threads are POSIX threads created and joined in each call, so the library is
+  safe in forked worker processes.
 * No compiler, or every compile failing: ``load`` prints one line on stderr
   (once per process and system) and returns None, and the callers take the
   NumPy path; ``load(required=True)`` raises :class:`~pendulab.errors.InputError`
@@ -46,10 +54,10 @@ from pendulab.errors import InputError
 
 #: tried in this order; the first that compiles is used
 FLAG_SETS = (
-    ("-O3", "-std=c99", "-fno-math-errno", "-ffp-contract=fast", "-fopenmp-simd", "-march=native",
+    ("-O3", "-std=c99", "-fno-math-errno", "-ffp-contract=off", "-fopenmp-simd", "-march=native",
      "-mprefer-vector-width=512"),
-    ("-O3", "-std=c99", "-fno-math-errno", "-ffp-contract=fast", "-fopenmp-simd", "-march=native"),
-    ("-O3", "-std=c99", "-fno-math-errno", "-ffp-contract=fast"),
+    ("-O3", "-std=c99", "-fno-math-errno", "-ffp-contract=off", "-fopenmp-simd", "-march=native"),
+    ("-O3", "-std=c99", "-fno-math-errno", "-ffp-contract=off"),
 )
 _LINK = ("-shared", "-fPIC", "-pthread")
 COMPILE_TIMEOUT = 120
@@ -165,7 +173,7 @@ class Kernel:
                                               _PD]
         lib.pendulab_ensemble_rk4.restype = _L
         lib.pendulab_rk4_path.argtypes = [_PD, _PD, _D, _D, _L, _I, _PD]
-        lib.pendulab_rk4_path.restype = None
+        lib.pendulab_rk4_path.restype = _L
         lib.pendulab_rhs_points.argtypes = [_L, _PD, _PD, _PD, _I, _PD]
         lib.pendulab_rhs_points.restype = None
         lib.pendulab_trig_points.argtypes = [_L, _PD, _I, _PD]
@@ -198,7 +206,7 @@ class Kernel:
         return y, mean, mabs, mx, int(status)
 
     def path(self, y0, p, t0, dt, steps, linear=False):
-        """One trajectory, states (steps + 1, 2), the C library's sine."""
+        """One trajectory, states (steps + 1, 2) (the library sine if an argument is too big)."""
         y0 = np.ascontiguousarray(y0, dtype=float)
         p = self._params(p, 1).reshape(-1)
         out = np.empty((steps + 1, 2))

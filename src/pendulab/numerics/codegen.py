@@ -332,8 +332,24 @@ def _c_statements(low, pr, indent, where):
     return out
 
 
+def _trig_guard(exprs, printer, where):
+    """C text of the largest |argument| of the sines and cosines in ``exprs`` (NaN propagates)."""
+    args = sorted({a.args[0] for e in exprs for a in e.atoms(sp.sin, sp.cos)},
+                  key=sp.default_sort_key)
+    g = "0.0"
+    for a in args:
+        g = f"pendulab_max_abs({_strict(printer, a, where)}, {g})"
+    return g
+
+
 def _c_point(fos, linear, fast):
-    """The time-term function and the point function of one variant, and its time-term count."""
+    """The time-term function and the point function of one variant.
+
+    Returns (tag, time-term function, point function, number of time terms, whether the
+    variant has a fast sine or cosine).  Both functions report the largest |argument| of
+    their fast sines and cosines (0 in the exact variant): the time-term function as its
+    value, the point function in ``*_g``.
+    """
     exprs = fos.linear_rhs if linear else fos.rhs
     low = lower(list(exprs), fos.time, hoist=True)
     tag = ("linear" if linear else "nonlinear") + ("_fast" if fast else "_exact")
@@ -342,19 +358,23 @@ def _c_point(fos, linear, fast):
     pr = _c_printer(fast)
     t = fos.time.name
     nterms = len([s for s, _ in low.time_terms if s.name.startswith("_c")])
-    # time terms: once per time level and block, C library functions
-    tlines = [f"static inline void time_terms_{tag}(double {t}, double *restrict _c)", "{"]
+    # time terms: once per time level and block
+    tlines = [f"static inline double time_terms_{tag}(double {t}, double *restrict _c)", "{"]
     if not low.time_terms:
         tlines.append(f"    (void){t};")
         tlines.append("    (void)_c;")
     index = {}
+    texprs = []
     for sym, e in low.time_terms:
-        text = _strict(pr_exact, e.subs({s: sp.Symbol(f"_c[{index[s]}]") for s in index}), where)
+        e = e.subs({s: sp.Symbol(f"_c[{index[s]}]") for s in index})
+        texprs.append(e)
+        text = _strict(pr, e, where)
         if sym.name.startswith("_c"):
             index[sym] = len(index)
             tlines.append(f"    _c[{index[sym]}] = {text};")
         else:
             tlines.append(f"    const double {sym.name} = {text};")
+    tlines.append(f"    return {_trig_guard(texprs, pr_exact, where) if fast else '0.0'};")
     tlines.append("}")
     # point function: one trajectory at one stage
     params = "".join(f", double {s.name}" for s in fos.params)
@@ -362,10 +382,10 @@ def _c_point(fos, linear, fast):
     plines = [f"static inline void point_{tag}(const double *restrict _c, double {t}, double {th}, "
               f"double {dth}{params}, double *restrict _f0, double *restrict _f1, double *restrict _g)",
               "{"]
-    used = set().union(*(e.free_symbols for e in low.outputs),
-                       *(e.free_symbols for _, e in low.assignments))
+    used = {u.name for u in set().union(*(e.free_symbols for e in low.outputs),
+                                        *(e.free_symbols for _, e in low.assignments))}
     for name in [t, th, dth] + [s.name for s in fos.params]:
-        if sp.Symbol(name) not in {sp.Symbol(u.name) for u in used}:
+        if name not in used:
             plines.append(f"    (void){name};")
     crep = {s: sp.Symbol(f"_c[{i}]") for s, i in index.items()}
     if not crep:
@@ -375,15 +395,10 @@ def _c_point(fos, linear, fast):
     plines += _c_statements(low2, pr, "    ", where)
     plines.append(f"    *_f0 = {_strict(pr, low2.outputs[0], where)};")
     plines.append(f"    *_f1 = {_strict(pr, low2.outputs[1], where)};")
-    # g: the largest |argument| of the fast sine and cosine (NaN propagates), for the rerun test
-    args = sorted({a.args[0] for e in list(low2.outputs) + [e for _, e in low2.assignments]
-                   for a in e.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key)
-    g = "0.0"
-    for a in args:
-        g = f"pendulab_max_abs({_strict(pr_exact, a, where)}, {g})" if fast else g
-    plines.append(f"    *_g = {g};")
+    lane = list(low2.outputs) + [e for _, e in low2.assignments]
+    plines.append(f"    *_g = {_trig_guard(lane, pr_exact, where) if fast else '0.0'};")
     plines.append("}")
-    has_trig = any(e.has(sp.sin, sp.cos) for e in list(low2.outputs) + [e for _, e in low2.assignments])
+    has_trig = any(e.has(sp.sin, sp.cos) for e in lane + texprs)
     return tag, "\n".join(tlines), "\n".join(plines), nterms, has_trig
 
 
@@ -435,6 +450,7 @@ def _c_kernel(fos, origin, command):
             if fast:
                 rerun[linear] = 1 if trig else 0
             drivers.append(env.get_template("rk4_block.c.j2").render(tag=tag, point_args=point_args))
+            drivers.append(env.get_template("rk4_path.c.j2").render(tag=tag, path_args=path_args))
     s_coef, s_deg = _sin_taylor()
     p1, p2, p3 = _pi_parts()
     return env.get_template("rhs_kernel.c.j2").render(
