@@ -45,7 +45,6 @@ import os
 import sys
 import time
 from dataclasses import dataclass, field, replace
-from functools import lru_cache
 
 from pendulab.errors import InputError, PendulabError
 
@@ -123,12 +122,20 @@ def _derive(spec):
     return eqs, periodic_form(eqs)
 
 
-@lru_cache(maxsize=8)
+_SYSTEMS = {}
+
+
 def first_order_system(spec):
-    """The first-order system in tau of ``spec`` (cached per process)."""
-    from pendulab.numerics.model import pivot_system
-    eqs, form = _stages(spec)
-    return pivot_system(eqs, form)
+    """The first-order system in tau of ``spec`` (cached per process).
+
+    Worker processes receive it with their first task (a pickled SymPy
+    system of a few kB), so they never derive it again.
+    """
+    if spec not in _SYSTEMS:
+        from pendulab.numerics.model import pivot_system
+        eqs, form = _stages(spec)
+        _SYSTEMS[spec] = pivot_system(eqs, form)
+    return _SYSTEMS[spec]
 
 
 def _param_columns(spec, fos):
@@ -362,8 +369,9 @@ def run_chunk(spec, index, backend="auto", threads=None):
 
 
 def _chunk_task(args):
-    """Top-level (picklable) wrapper for process pools and Dask."""
-    spec, index, backend, threads = args
+    """Top-level (picklable) wrapper for process pools and Dask: (spec, index, backend, threads, fos)."""
+    spec, index, backend, threads, fos = args
+    _SYSTEMS.setdefault(spec.system, fos)
     return run_chunk(spec, index, backend=backend, threads=threads)
 
 
@@ -504,7 +512,8 @@ def run_tasks(spec, tasks, executor="serial", *, workers=None, client=None, back
             n = workers or min(len(tasks), os.cpu_count() or 1)
             # one thread per process: the processes already use the cores
             with cf.ProcessPoolExecutor(max_workers=max(1, n), mp_context=mp.get_context("spawn")) as pool:
-                futures = [pool.submit(_chunk_task, (spec, t, backend, 1)) for t in tasks]
+                fos = first_order_system(spec.system)
+                futures = [pool.submit(_chunk_task, (spec, t, backend, 1, fos)) for t in tasks]
                 try:
                     for fut in cf.as_completed(futures):
                         done(fut.result())
@@ -514,7 +523,8 @@ def run_tasks(spec, tasks, executor="serial", *, workers=None, client=None, back
             from distributed import as_completed
             token = _token(spec, backend)
             keys = [f"pendulab-sweep-{token}-{k}" for k in range(len(tasks))]
-            futures = client.map(_chunk_task, [(spec, t, backend, 1) for t in tasks], key=keys,
+            fos = first_order_system(spec.system)
+            futures = client.map(_chunk_task, [(spec, t, backend, 1, fos) for t in tasks], key=keys,
                                  pure=False)
             try:
                 for fut in as_completed(futures):

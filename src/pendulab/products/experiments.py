@@ -44,6 +44,8 @@ OPTIONS = {
 SYSTEMS = ("kapitza",)
 #: Points per axis of the limit curves and of the shaded Floquet region in the figures.
 FINE = 301
+#: Points of omega0/omega at which the eq. 28 curves of the figures are computed.
+CURVE = 41
 
 LABELS = {"mean": r"$|\langle\theta\rangle| < 0.1$", "mean-abs": r"$\langle|\theta|\rangle < 0.1$",
           "bounded": r"$|\theta| < \pi/2$", "floquet": "Floquet (linear)"}
@@ -111,9 +113,11 @@ def compute(spec, options):
         out["limits"] = {"w0_over_w": w, "curves": E.limit_curves(spec, w)}
         if options["figures"]:
             # the curves and the shaded Floquet region are drawn finer than the map
+            # (eq. 28 on CURVE points; the exact boundary is the edge of the fine Floquet region)
             fine = E.S.linspace_grid(FINE)
-            out["fine"] = {"w0_over_w": fine, "curves": E.limit_curves(spec, fine),
-                           "region": E.floquet_region(spec, fine)}
+            w21 = E.S.linspace_grid(CURVE)
+            out["fine"] = {"w0_over_w": w21, "curves": E.limit_curves(spec, w21, ("eq28",)),
+                           "region_values": fine, "region": E.floquet_region(spec, fine)}
     if options["first_experiment"]:
         out["first"] = E.first_experiment(spec, options["first_grid"], options["first_convention"],
                                           options["periods"], options["steps_per_period"], **kw)
@@ -220,18 +224,19 @@ def figure_map(m, limits, title):
         try:
             n = len(a)
             ms = max(0.6, min(4.0, 220.0 / max(n, 1)))
-            fw = np.asarray(limits["w0_over_w"])
+            fw = np.asarray(limits["region_values"])
+            from matplotlib.lines import Line2D
             for k, c in enumerate(crits):
                 ax = axes[k // ncol][k % ncol]
-                if "region" in limits:
-                    ax.contourf(fw, fw, limits["region"].astype(float), levels=[0.5, 1.5], colors=["0.85"])
+                region = limits["region"].astype(float)
+                ax.contourf(fw, fw, region, levels=[0.5, 1.5], colors=["0.85"])
+                ax.contour(fw, fw, region, levels=[0.5], colors=["C0"], linestyles=["--"], linewidths=[1.0])
                 ii, jj = np.nonzero(m["maps"][c])
                 ax.plot(a[jj], w[ii], "o", mfc="none", mec="k", ms=ms, mew=0.4, ls="none")
-                for meth, style in (("eq28", "-"), ("exact", "--")):
-                    lo, up = limits["curves"][meth]
-                    for side in (lo, up):
-                        ax.plot(side, limits["w0_over_w"], style, color="C3" if meth == "eq28" else "C0",
-                                lw=1.0, label=None if side is up else ("eq. 28" if meth == "eq28" else "exact"))
+                lo, up = limits["curves"]["eq28"]
+                ax.plot(lo, limits["w0_over_w"], "-", color="C3", lw=1.0, label="eq. 28")
+                ax.plot(up, limits["w0_over_w"], "-", color="C3", lw=1.0)
+                ax.add_line(Line2D([], [], ls="--", color="C0", lw=1.0, label="exact (Floquet)"))
                 ax.set_xlim(0, 1)
                 ax.set_ylim(0, 1)
                 ax.set_title(f"{LABELS[c]}: {m['counts'][c]} stable")
@@ -311,7 +316,7 @@ def figures(results):
         th, om = INITIAL[name]
         title = (rf"$\theta(0) = {th:g}$, $\dot\theta(0) = {om:g}$, {len(m['a_over_l'])}$^2$ pairs; "
                  "shaded: Floquet-stable; solid: eq. 28; dashed: exact")
-        for ext, data in figure_map(m, results.get("fine", results["limits"]), title).items():
+        for ext, data in figure_map(m, results["fine"], title).items():
             files[names[name] + ext] = data
     if "fig5" in results:
         for ext, data in figure_fig5(results["fig5"]).items():
