@@ -50,12 +50,12 @@ def peak_mb():
 
 
 def numpy_baseline(fos, y0, params, dt, steps):
-    """Plain vectorised RK4 with the lambdified derivation; (seconds, signed mean of theta)."""
+    """Plain vectorised RK4 with the lambdified derivation; (seconds, CPU s, signed mean)."""
     f = fos.lambdified()
     y = y0.T.copy()
     p = params.T
     s, sa, mx = y[0].copy(), np.abs(y[0]), np.abs(y[0])
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     for i in range(steps):
         t = i * dt
         k1 = f(t, y, p)
@@ -66,24 +66,24 @@ def numpy_baseline(fos, y0, params, dt, steps):
         s += y[0]
         sa += np.abs(y[0])
         mx = np.maximum(mx, np.abs(y[0]))
-    return time.perf_counter() - t0, s / (steps + 1)
+    return time.perf_counter() - t0, time.process_time() - c0, s / (steps + 1)
 
 
 def scipy_baseline(fos, params, dt, steps, sample, seed=3):
-    """solve_ivp per trajectory with a lambdified scalar RHS; (seconds per trajectory, n)."""
+    """solve_ivp per trajectory with a lambdified scalar RHS; (s and CPU s per trajectory, n)."""
     from scipy.integrate import solve_ivp
     fn = sp.lambdify((fos.time, fos.states, fos.params), list(fos.rhs), "math")
     rng = np.random.default_rng(seed)
     rows = rng.choice(len(params), size=sample, replace=False)
     times = dt * np.arange(steps + 1)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     for r in rows:
         p = tuple(params[r])
         sol = solve_ivp(lambda t, y, p=p: fn(t, y, p), (0.0, times[-1]), list(Y0),
                         method="RK45", rtol=1e-8, atol=1e-10, t_eval=times)
         th = sol.y[0]
         _ = (th.mean(), np.abs(th).mean(), np.abs(th).max())
-    return (time.perf_counter() - t0) / sample, sample
+    return (time.perf_counter() - t0) / sample, (time.process_time() - c0) / sample, sample
 
 
 def main():
@@ -130,7 +130,7 @@ def main():
     time_cos = info.time_trig[0] * 3 * steps * blocks
     stable = int(np.sum(np.abs(res.mean_theta) < 0.1))
     print(f"ours (C, vectorisable sine): {best:.3f} s (best of 3; target <= 1.5 s), "
-          f"peak memory {mem:.0f} MB (target < 300 MB), blocks rerun {res.exact_blocks}")
+          f"peak memory {mem:.0f} MB (target < 300 MB), trajectories rerun {res.exact_trajectories}")
     print(f"  {best / traj_steps * 1e9:.2f} ns per RK4 step per trajectory (wall); CPU time "
           f"{cpu:.3f} s = {cpu / traj_steps * 1e9:.2f} ns per step per trajectory per core; "
           f"load average now {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
@@ -141,21 +141,25 @@ def main():
     print(f"same kernel, C library sine: {t_lib:.3f} s ({t_lib / best:.2f}x ours); "
           f"max |y difference| {dev:.1e}; criterion mean: {stable} stable points")
 
-    t_np, mean_np = numpy_baseline(fos, y0, params, dt, args.numpy_steps)
+    t_np, c_np, mean_np = numpy_baseline(fos, y0, params, dt, args.numpy_steps)
     scaled = t_np * steps / args.numpy_steps
+    scaled_cpu = c_np * steps / args.numpy_steps
     note = "" if args.numpy_steps == steps else f" (ran {args.numpy_steps} steps, scaled)"
     if args.numpy_steps == steps:
         note += f"; criterion mean: {int(np.sum(np.abs(mean_np) < 0.1))} stable points"
     print(f"baseline A, NumPy-vectorised RK4 (lambdified RHS): {scaled:.2f} s{note}")
     print(f"  ours {best:.3f} s, baseline {scaled:.2f} s, ratio {scaled / best:.0f}x "
-          f"(target >= 25x)")
+          f"(target >= 25x); by CPU time: ours {cpu:.2f} s, baseline {scaled_cpu:.2f} s, "
+          f"ratio {scaled_cpu / cpu:.0f}x (x{args.threads} threads: "
+          f"{scaled_cpu / cpu * args.threads:.0f}x on an idle machine)")
 
-    per, k = scipy_baseline(fos, params, dt, steps, args.sample)
+    per, per_cpu, k = scipy_baseline(fos, params, dt, steps, args.sample)
     total = per * n
     print(f"baseline B, solve_ivp per trajectory (RK45 rtol 1e-8, lambdified): {per:.2f} s per "
           f"trajectory on {k} sampled, extrapolated to {n}: {total:.0f} s")
     print(f"  ours {best:.3f} s, baseline {total:.0f} s, ratio {total / best:.0f}x "
-          f"(target >= 2000x)")
+          f"(target >= 2000x); by CPU time {per_cpu * n / cpu:.0f}x "
+          f"(x{args.threads} threads: {per_cpu * n / cpu * args.threads:.0f}x on an idle machine)")
 
 
 if __name__ == "__main__":

@@ -260,29 +260,46 @@ def numpy_functions(fos):
 
 # -- the C kernel ----------------------------------------------------------------------------
 
+class _KernelPrinting:
+    """Integer powers as products, sin and cos as the kernel's own (if ``fast``).
+
+    Shared by the C printer and the NumPy printer of the integrators' module, so that
+    both evaluate the same operations in the same order (and give the same bits).
+    """
+
+    _sin_names = ("sin", "cos")
+
+    def _print_Pow(self, expr):
+        b, e = expr.as_base_exp()
+        if e.is_Integer and 1 <= abs(int(e)) <= 8 and e != 1:
+            base = self.parenthesize(b, 1000)  # atoms and calls unparenthesised
+            prod = "*".join([base] * abs(int(e)))
+            return f"({prod})" if e > 0 else f"(1.0/({prod}))"
+        return super()._print_Pow(expr)
+
+    def _print_sin(self, expr):
+        return f"{self._sin_names[0]}({self._print(expr.args[0])})"
+
+    def _print_cos(self, expr):
+        return f"{self._sin_names[1]}({self._print(expr.args[0])})"
+
+
 def _c_printer(fast):
     from sympy.printing.c import C99CodePrinter
 
-    class Printer(C99CodePrinter):
-        """C99 with integer powers as products and, if ``fast``, the vectorisable sine."""
-
-        def _print_Pow(self, expr):
-            b, e = expr.as_base_exp()
-            if e.is_Integer and 1 < abs(int(e)) <= 8:
-                base = self.parenthesize(b, 1000)  # atoms and calls unparenthesised
-                prod = "*".join([base] * abs(int(e)))
-                return f"({prod})" if e > 0 else f"(1.0/({prod}))"
-            return super()._print_Pow(expr)
-
-        def _print_sin(self, expr):
-            name = "pendulab_sin" if fast else "sin"
-            return f"{name}({self._print(expr.args[0])})"
-
-        def _print_cos(self, expr):
-            name = "pendulab_cos" if fast else "cos"
-            return f"{name}({self._print(expr.args[0])})"
+    class Printer(_KernelPrinting, C99CodePrinter):
+        _sin_names = ("pendulab_sin", "pendulab_cos") if fast else ("sin", "cos")
 
     return Printer({"strict": True})
+
+
+def _numpy_kernel_printer(fast):
+    from sympy.printing.numpy import NumPyPrinter
+
+    class Printer(_KernelPrinting, NumPyPrinter):
+        _sin_names = ("_sin", "_cos") if fast else ("numpy.sin", "numpy.cos")
+
+    return Printer({"strict": True, "fully_qualified_modules": True})
 
 
 def _pi_parts():
@@ -402,6 +419,99 @@ def _c_point(fos, linear, fast):
     return tag, "\n".join(tlines), "\n".join(plines), nterms, has_trig
 
 
+def _py_point(fos, linear, fast):
+    """The NumPy twin of :func:`_c_point`: the same lowering and the same operation order.
+
+    ``time_terms_TAG(t)`` returns (list of time terms, guard); ``point_TAG(_c, t, theta,
+    dtheta, *params)`` returns (f0, f1, guard), vectorised over arrays.
+    """
+    exprs = fos.linear_rhs if linear else fos.rhs
+    low = lower(list(exprs), fos.time, hoist=True)
+    tag = ("linear" if linear else "nonlinear") + ("_fast" if fast else "_exact")
+    where = f"{fos.name} {'linear ' if linear else ''}rhs"
+    pr = _numpy_kernel_printer(fast)
+    t = fos.time.name
+    nterms = len([s for s, _ in low.time_terms if s.name.startswith("_c")])
+    tlines = [f"def time_terms_{tag}({t}):", f"    _c = [0.0] * {max(1, nterms)}"]
+    index, texprs = {}, []
+    for sym, e in low.time_terms:
+        e = e.subs({s: sp.Symbol(f"_c[{index[s]}]") for s in index})
+        texprs.append(e)
+        text = _strict(pr, e, where)
+        if sym.name.startswith("_c"):
+            index[sym] = len(index)
+            tlines.append(f"    _c[{index[sym]}] = {text}")
+        else:
+            tlines.append(f"    {sym.name} = {text}")
+    tlines.append(f"    return _c, {_py_guard(texprs, pr, where) if fast else '0.0'}")
+    params = "".join(f", {s.name}" for s in fos.params)
+    th, dth = (s.name for s in fos.states)
+    plines = [f"def point_{tag}(_c, {t}, {th}, {dth}{params}):"]
+    crep = {s: sp.Symbol(f"_c[{i}]") for s, i in index.items()}
+    assignments = [(sym, e.subs(crep)) for sym, e in low.assignments]
+    outputs = [e.subs(crep) for e in low.outputs]
+    for sym, e in assignments:
+        plines.append(f"    {sym.name} = {_strict(pr, e, where)}")
+    lane = outputs + [e for _, e in assignments]
+    plines.append(f"    return ({_strict(pr, outputs[0], where)}, {_strict(pr, outputs[1], where)}, "
+                  f"{_py_guard(lane, pr, where) if fast else '0.0'})")
+    return "\n".join(tlines) + "\n\n\n" + "\n".join(plines)
+
+
+def _py_guard(exprs, printer, where):
+    args = sorted({a.args[0] for e in exprs for a in e.atoms(sp.sin, sp.cos)},
+                  key=sp.default_sort_key)
+    g = "0.0"
+    for a in args:
+        g = f"_max_abs({_strict(printer, a, where)}, {g})"
+    return g
+
+
+def numpy_kernel_module(fos):
+    """The integrators' NumPy module: the C kernel's arithmetic, operation for operation.
+
+    It has the kernel's sine and cosine (``_sin``, ``_cos``: the same reduction and
+    polynomial in NumPy operations) and, per variant TAG in nonlinear_fast,
+    nonlinear_exact, linear_fast, linear_exact, ``time_terms_TAG`` and ``point_TAG`` as in
+    the C text, so that :func:`pendulab.numerics.integrate.ensemble_rk4` gives the same
+    bits on both paths.  Not written to generated/ (``numpy_module`` is the readable one).
+    """
+    return _memo("numpy-kernel", fos, None, None, lambda: _numpy_kernel_module(fos))
+
+
+def _numpy_kernel_module(fos):
+    _check_names(fos)
+    s_coef, s_deg = _sin_taylor()
+    p1, p2, p3 = _pi_parts()
+    variants = [_py_point(fos, linear, fast) for linear in (False, True) for fast in (True, False)]
+    rerun = {}
+    for linear in (False, True):
+        rerun[linear] = _c_point(fos, linear, True)[4]
+    return _env().get_template("rhs_numpy_kernel.py.j2").render(
+        banner=_banner(origin_of(fos=fos), "pendulab.numerics.integrate", "#"),
+        name=fos.name,
+        sin_limit=repr(SIN_LIMIT),
+        one_over_pi=repr(float(1 / sp.pi)),
+        pi_1=repr(p1), pi_2=repr(p2), pi_3=repr(p3),
+        half_pi_1=repr(p1 / 2), half_pi_2=repr(p2 / 2), half_pi_3=repr(p3 / 2),
+        sin_poly=_horner(s_coef, "z"),
+        rerun_nonlinear=repr(rerun[False]),
+        rerun_linear=repr(rerun[True]),
+        variants="\n\n\n".join(variants),
+    )
+
+
+def numpy_kernel_functions(fos):
+    """:func:`numpy_kernel_module` executed in a fresh namespace (cached by text)."""
+    text = numpy_kernel_module(fos)
+    key = "kernel-" + hashlib.sha256(text.encode()).hexdigest()
+    if key not in _NAMESPACES:
+        ns = {"__name__": f"pendulab_kernel_{fos.name.replace('-', '_')}"}
+        exec(compile(text, f"<generated numpy kernel {key[7:19]}>", "exec"), ns)
+        _NAMESPACES[key] = ns
+    return _NAMESPACES[key]
+
+
 @dataclass(frozen=True)
 class KernelInfo:
     """What the C kernel computes per right-hand side evaluation of one trajectory.
@@ -449,7 +559,8 @@ def _c_kernel(fos, origin, command):
             nterms = max(nterms, nt)
             if fast:
                 rerun[linear] = 1 if trig else 0
-            drivers.append(env.get_template("rk4_block.c.j2").render(tag=tag, point_args=point_args))
+            drivers.append(env.get_template("rk4_block.c.j2").render(
+                tag=tag, point_args=point_args, width="PENDULAB_LANES" if fast else "count"))
             drivers.append(env.get_template("rk4_path.c.j2").render(tag=tag, path_args=path_args))
     s_coef, s_deg = _sin_taylor()
     p1, p2, p3 = _pi_parts()

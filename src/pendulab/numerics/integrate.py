@@ -46,10 +46,14 @@ class EnsembleResult:
     * ``mean_abs_theta`` - (n,): sum_i |theta_i| / (steps + 1) (``mean-abs``);
     * ``max_abs_theta`` - (n,): max_i |theta_i| (``bounded``: < pi/2);
     * ``backend`` - "c" or "numpy", ``steps`` and ``dt`` as given;
-    * ``exact_blocks`` - C only: how many blocks of
-      :data:`~pendulab.numerics.codegen.LANES` trajectories met a sine argument
-      beyond :data:`~pendulab.numerics.codegen.SIN_LIMIT` and were integrated
-      again with the C library's sine (0 for NumPy, which always uses it).
+    * ``exact_trajectories`` - how many trajectories met a sine argument beyond
+      :data:`~pendulab.numerics.codegen.SIN_LIMIT` and were integrated again with
+      the library sine (C's, or NumPy's on the NumPy path).
+
+    Both backends do the same IEEE operations in the same order (the NumPy path
+    runs :func:`pendulab.numerics.codegen.numpy_kernel_module`, the C kernel's
+    arithmetic), so they give the same bits, except for trajectories integrated
+    again with the library sine (C's and NumPy's sines may differ in the last bit).
 
     A trajectory that overflows has NaN or inf in all its statistics
     (a NaN state makes every later statistic NaN, in both backends).
@@ -62,7 +66,7 @@ class EnsembleResult:
     backend: str
     steps: int
     dt: float
-    exact_blocks: int = 0
+    exact_trajectories: int = 0
 
 
 # -- input checks ---------------------------------------------------------------------------
@@ -167,42 +171,64 @@ def _numpy_rhs(fos, linear):
     return numpy_functions(fos)["linear_rhs" if linear else "rhs"]
 
 
-def _rk4_numpy(f, y, p, t0, dt, steps, record=None, stats=None):
-    """RK4 on y (2, n) in place of a copy; ``record(i, y)`` after each step, ``stats`` likewise."""
+def _max_abs(a, b):
+    x = np.abs(a)
+    return np.where((x > b) | (x != x), x, b)
+
+
+def _rk4_kernel_numpy(ns, tag, y0, p, t0, dt, steps, record=None):
+    """The C kernel's block loop in NumPy (same operations, same order, same bits).
+
+    y0 (n, 2), p (n, k); returns (theta, dtheta, sum theta, sum |theta|, max |theta|,
+    guard), each (n,); ``record(i, theta, dtheta)`` after each step.
+    """
+    tt, pt = ns[f"time_terms_{tag}"], ns[f"point_{tag}"]
+    th, om = y0[:, 0].copy(), y0[:, 1].copy()
+    P = [p[:, q].copy() for q in range(p.shape[1])]
+    s, sa, m = th.copy(), np.abs(th), np.abs(th)
+    G, gt = np.zeros_like(th), 0.0
     h2, h6 = 0.5 * dt, dt / 6.0
-    for i in range(steps):
-        ta, tm, tb = t0 + i * dt, t0 + (i + 0.5) * dt, t0 + (i + 1) * dt
-        k1 = f(ta, y, p)
-        k2 = f(tm, y + h2 * k1, p)
-        k3 = f(tm, y + h2 * k2, p)
-        k4 = f(tb, y + dt * k3, p)
-        y = y + h6 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-        if record is not None:
-            record(i + 1, y)
-        if stats is not None:
-            stats(y[0])
-    return y
+    with np.errstate(all="ignore"):
+        for i in range(steps):
+            ta, tm, tb = t0 + i * dt, t0 + (i + 0.5) * dt, t0 + (i + 1) * dt
+            ca, g = tt(ta)
+            gt = _max_abs(g, gt)
+            cm, g = tt(tm)
+            gt = _max_abs(g, gt)
+            cb, g = tt(tb)
+            gt = _max_abs(g, gt)
+            a0, a1, ga = pt(ca, ta, th, om, *P)
+            b0, b1, gb = pt(cm, tm, th + h2 * a0, om + h2 * a1, *P)
+            c0, c1, gc = pt(cm, tm, th + h2 * b0, om + h2 * b1, *P)
+            d0, d1, gd = pt(cb, tb, th + dt * c0, om + dt * c1, *P)
+            th = th + h6 * (a0 + 2.0 * b0 + 2.0 * c0 + d0)
+            om = om + h6 * (a1 + 2.0 * b1 + 2.0 * c1 + d1)
+            x = np.abs(th)
+            s += th
+            sa += x
+            m = np.where((x > m) | (x != x), x, m)
+            G = _max_abs(ga, _max_abs(gb, _max_abs(gc, _max_abs(gd, G))))
+            if record is not None:
+                record(i + 1, th, om)
+    return th, om, s, sa, m, _max_abs(G, gt)
 
 
 def _ensemble_numpy(fos, y0, p, t0, dt, steps, linear, stats):
-    f = _numpy_rhs(fos, linear)
-    y = y0.T.copy()
-    pt = p.T
-    th = y[0]
-    acc = {"s": th.copy(), "sa": np.abs(th), "mx": np.abs(th)}
-
-    def update(theta):
-        a = np.abs(theta)
-        acc["s"] += theta
-        acc["sa"] += a
-        acc["mx"] = np.maximum(acc["mx"], a)
-
-    y = _rk4_numpy(f, y, pt, t0, dt, steps, stats=update if stats else None)
-    m = steps + 1
-    if stats:
-        return y.T.copy(), acc["s"] / m, acc["sa"] / m, acc["mx"]
-    nan = np.full(y.shape[1], np.nan)
-    return y.T.copy(), nan, nan.copy(), nan.copy()
+    """The NumPy path: the C kernel's arithmetic (codegen.numpy_kernel_module), reruns too."""
+    from pendulab.numerics.codegen import numpy_kernel_functions
+    ns = numpy_kernel_functions(fos)
+    kind = "linear" if linear else "nonlinear"
+    th, om, s, sa, m, guard = _rk4_kernel_numpy(ns, f"{kind}_fast", y0, p, t0, dt, steps)
+    rerun = np.nonzero(~(guard <= ns["SIN_LIMIT"]))[0] if ns[f"RERUN_{kind.upper()}"] else []
+    if len(rerun):
+        out = _rk4_kernel_numpy(ns, f"{kind}_exact", y0[rerun], p[rerun], t0, dt, steps)
+        for arr, new in zip((th, om, s, sa, m), out):
+            arr[rerun] = new
+    y = np.column_stack([th, om])
+    if not stats:
+        nan = np.full(len(th), np.nan)
+        return y, nan, nan.copy(), nan.copy(), 0
+    return y, s / (steps + 1), sa / (steps + 1), m, len(rerun)
 
 
 # -- the public calls -----------------------------------------------------------------------
@@ -248,16 +274,16 @@ def ensemble_rk4(fos, y0, params, t0, dt, steps, *, linear=False, stats=True, ba
     if kernel is not None:
         *out, reruns = kernel.ensemble(y0, p, t0, dt, steps, linear=linear, stats=stats,
                                        threads=threads or default_threads())
-        return EnsembleResult(*out, backend="c", steps=steps, dt=dt, exact_blocks=reruns)
-    out = _ensemble_numpy(fos, y0, p, t0, dt, steps, linear, stats)
-    return EnsembleResult(*out, backend="numpy", steps=steps, dt=dt)
+        return EnsembleResult(*out, backend="c", steps=steps, dt=dt, exact_trajectories=reruns)
+    *out, reruns = _ensemble_numpy(fos, y0, p, t0, dt, steps, linear, stats)
+    return EnsembleResult(*out, backend="numpy", steps=steps, dt=dt, exact_trajectories=reruns)
 
 
 def rk4_trajectory(fos, y0, params, t0, dt, steps, *, linear=False, backend="auto"):
     """One RK4 trajectory: (times (steps + 1,), states (steps + 1, 2)), y0 first.
 
-    ``y0`` (2,), ``params`` (len(fos.params),); times t0 + i dt; the step is the
-    one of :func:`ensemble_rk4` (in the C kernel with the C library's sine).
+    ``y0`` (2,), ``params`` (len(fos.params),); times t0 + i dt; the step, the sine
+    and the bits are those of :func:`ensemble_rk4`.
     """
     _backend(backend)
     y0, p = _check_point(fos, y0, params)
@@ -270,13 +296,19 @@ def rk4_trajectory(fos, y0, params, t0, dt, steps, *, linear=False, backend="aut
     kernel = _kernel(fos, backend)
     if kernel is not None:
         return times, kernel.path(y0, p, t0, dt, steps, linear=linear)
+    from pendulab.numerics.codegen import numpy_kernel_functions
+    ns = numpy_kernel_functions(fos)
+    kind = "linear" if linear else "nonlinear"
     states = np.empty((steps + 1, 2))
     states[0] = y0
 
-    def record(i, y):
-        states[i] = y[:, 0]
-    _rk4_numpy(_numpy_rhs(fos, linear), y0.reshape(2, 1).copy(), p.reshape(-1, 1), t0, dt,
-               steps, record=record)
+    def record(i, th, om):
+        states[i, 0], states[i, 1] = th[0], om[0]
+    *_, guard = _rk4_kernel_numpy(ns, f"{kind}_fast", y0.reshape(1, 2), p.reshape(1, -1), t0, dt,
+                                  steps, record=record)
+    if ns[f"RERUN_{kind.upper()}"] and not guard[0] <= ns["SIN_LIMIT"]:
+        _rk4_kernel_numpy(ns, f"{kind}_exact", y0.reshape(1, 2), p.reshape(1, -1), t0, dt, steps,
+                          record=record)
     return times, states
 
 
