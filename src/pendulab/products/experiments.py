@@ -285,7 +285,7 @@ def figure_fig5(r):
 def figure_fig2(r):
     matplotlib, plt = _matplotlib()
     with matplotlib.rc_context(RC):
-        fig, ax = plt.subplots(figsize=(6.6, 3.4))
+        fig, ax = plt.subplots(figsize=(6.6, 3.6))
         try:
             tau = r["tau"]
             ax.plot(tau, r["theta"], "-", color="k", lw=0.9, label=r"$\theta(\tau)$ (RK4, eq. 7)")
@@ -300,8 +300,8 @@ def figure_fig2(r):
                          rf"$\theta(0) = {r['theta'][0]:g}$, $\dot\theta(0) = 0$")
             h1, l1 = ax.get_legend_handles_labels()
             h2, l2 = ax2.get_legend_handles_labels()
-            ax.legend(h1 + h2, l1 + l2, loc="lower left", frameon=False)
-            fig.tight_layout()
+            fig.legend(h1 + h2, l1 + l2, loc="lower center", ncol=3, frameon=False)
+            fig.tight_layout(rect=(0, 0.07, 1, 1))
             return save(fig)
         finally:
             plt.close(fig)
