@@ -156,8 +156,8 @@ def test_killing_a_dask_worker_mid_sweep_loses_and_duplicates_nothing(cluster):
     import signal
     _, client = cluster
     client.wait_for_workers(2, timeout=60)
-    spec = S.make_spec(ROD, grid=12, initial=[(0.06, 0.01)], periods=60, steps_per_period=50,
-                       chunk_size=6)
+    spec = S.make_spec(ROD, grid=10, initial=[(0.06, 0.01)], periods=40, steps_per_period=50,
+                       chunk_size=5)
     local = S.sweep(spec, executor="serial", backend="numpy")
     killed = {}
 
@@ -191,7 +191,7 @@ def test_unreachable_scheduler_is_one_line(capsys):
 @pytest.mark.parametrize("system, ratio", [(ROD, 4 / 3), (POINT, 1.0)])
 def test_floquet_map_against_eq28_and_exact_limits(system, ratio):
     from pendulab.analyses.stability import limits
-    spec = S.make_spec(system, grid=41, criterion="floquet")
+    spec = S.make_spec(system, grid=13, criterion="floquet")
     r = S.sweep(spec)
     assert r.simulated == 0
     f = r.stable[0]
@@ -227,7 +227,8 @@ def test_pruned_map_equals_the_full_map(criterion):
     pruned = S.pruned_sweep(spec)
     assert np.array_equal(pruned.stable, full.stable)
     assert full.simulated == spec.cells
-    assert pruned.simulated < spec.cells  # something was saved
+    if criterion != "mean":  # for the signed mean every Floquet-unstable cell is integrated
+        assert pruned.simulated < spec.cells // 2
     _, simulate = S.prune_plan(spec)
     assert pruned.simulated == int(simulate.sum())
 

@@ -678,12 +678,12 @@ def sweep(spec, *, executor="auto", workers=None, dask=None, backend="auto", qui
 
 #: Largest estimated amplitude (rad) at which a Floquet-stable cell away from the
 #: boundary is taken as stable without integrating it (bounded, mean).
-SMALL_AMPLITUDE = 0.5
+SMALL_AMPLITUDE = 0.3
 #: Default width (in grid steps) of the band around the Floquet boundary that is always integrated.
 MARGIN = 2
 
 
-def prune_plan(spec, margin=MARGIN):
+def prune_plan(spec, margin=MARGIN, amplitude=None):
     """(predicted, simulate): the Floquet verdict and the cells whose nonlinear verdict it may not give.
 
     Both are bool arrays of ``spec.shape``.  The rule (docs/experiments.md):
@@ -694,7 +694,7 @@ def prune_plan(spec, margin=MARGIN):
     * a Floquet-stable cell is integrated when the linear estimate of its
       amplitude, A = (1 + |theta1|) sqrt(theta(0)^2 + (theta'(0)/nu)^2) with nu
       the characteristic exponent (the slow frequency, 000 eq. 8), is not
-      small: A >= 0.5 rad for ``bounded`` and ``mean``, (2/pi) A >= 0.05 (half
+      small: A >= 0.3 rad for ``bounded`` and ``mean``, (2/pi) A >= 0.05 (half
       the threshold) for ``mean-abs`` (the mean of |A cos| is (2/pi) A);
     * for ``mean`` every Floquet-unstable cell is integrated: a trajectory that
       falls and alternates rotation and oscillation can still have a small
@@ -732,7 +732,7 @@ def prune_plan(spec, margin=MARGIN):
         if spec.criterion == "mean-abs":
             big = 2 / math.pi * amp >= THRESHOLD / 2
         else:
-            big = amp >= SMALL_AMPLITUDE
+            big = amp >= (SMALL_AMPLITUDE if amplitude is None else amplitude)
         simulate[c] |= F & big
         if spec.criterion == "mean":
             simulate[c] |= ~F
