@@ -270,7 +270,11 @@ def ensemble_rk4(fos, y0, params, t0, dt, steps, *, linear=False, stats=True, ba
                                 or threads < 1):
         raise InputError(f"threads must be a positive integer, got {threads!r}")
     n = y0.shape[0]
-    kernel = _kernel(fos, backend) if n else None
+    kernel = _kernel(fos, backend)
+    if n == 0:
+        empty = np.empty(0)
+        return EnsembleResult(np.empty((0, 2)), empty, empty.copy(), empty.copy(),
+                              backend="numpy" if kernel is None else "c", steps=steps, dt=dt)
     if kernel is not None:
         *out, reruns = kernel.ensemble(y0, p, t0, dt, steps, linear=linear, stats=stats,
                                        threads=threads or default_threads())
