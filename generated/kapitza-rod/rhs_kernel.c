@@ -17,9 +17,9 @@
  *     y0, yout (n, 2); p (n, k); mean, mabs, mx (n,): the sum of theta, of |theta| over
  *     the steps + 1 states (the initial one included) divided by steps + 1, and the
  *     max of |theta|.  library_sine: the C library's sin and cos throughout (for
- *     comparison).  Classical RK4 at t_i = t0 + i dt.  Returns the number of blocks
- *     integrated again with the library sine (>= 0), or -1 if a thread could not be
- *     started (then nothing is valid).
+ *     comparison).  Classical RK4 at t_i = t0 + i dt.  Returns the number of
+ *     trajectories integrated again with the library sine (>= 0), or -1 if a thread
+ *     could not be started (then nothing is valid).
  *   long pendulab_rk4_path(const double *y0, const double *p, double t0, double dt,
  *       long steps, int linear, double *out)       one trajectory, out (steps + 1, 2);
  *     returns 1 if it was integrated again with the library sine, else 0
@@ -31,9 +31,9 @@
  * x / pi + 1/2, and r reduced from x + pi/2) and pi = P1 + P2 + P3 (P1, P2 of 33 bits:
  * k P1 and k P2 are exact for |k| < 2^20), then (-1)^k times the Taylor polynomial of
  * sin of degree 21 on [-pi/2, pi/2] (first omitted term below 2^-56).  Used for
- * |x| <= PENDULAB_SIN_LIMIT: every point function reports the largest |argument| of its
- * fast sines and cosines (g), and a block in which one exceeds the limit (or is NaN) is
- * integrated again with the C library's sin and cos.
+ * |x| <= PENDULAB_SIN_LIMIT: every point and time-term function reports the largest
+ * |argument| of its fast sines and cosines, and a trajectory that met one beyond the
+ * limit (or NaN) is integrated again with the C library's sin and cos.
  */
 #define _XOPEN_SOURCE 700
 #include <math.h>
@@ -148,12 +148,13 @@ static inline void point_linear_exact(const double *restrict _c, double tau, dou
     *_g = 0.0;
 }
 
-/* RK4 over one block of PENDULAB_LANES trajectories, variant nonlinear_fast; returns the largest
- * |argument| of a fast sine or cosine met (NaN if any was NaN). */
-static double block_nonlinear_fast(long first, long count, const double *restrict y0,
-                              const double *restrict p, double t0, double dt, long steps,
-                              double *restrict yout, double *restrict mean,
-                              double *restrict mabs, double *restrict mx)
+/* RK4 over one block of trajectories first .. first + count - 1, variant nonlinear_fast, the lane
+ * loop PENDULAB_LANES wide.  guard[j]: the largest |argument| of a fast sine or cosine that
+ * trajectory first + j met, the time terms' included (NaN if any was NaN). */
+static void block_nonlinear_fast(long first, long count, const double *restrict y0,
+                            const double *restrict p, double t0, double dt, long steps,
+                            double *restrict yout, double *restrict mean,
+                            double *restrict mabs, double *restrict mx, double *restrict guard)
 {
     double th[PENDULAB_LANES], om[PENDULAB_LANES];
     double s[PENDULAB_LANES], sa[PENDULAB_LANES], m[PENDULAB_LANES], G[PENDULAB_LANES];
@@ -198,7 +199,6 @@ static double block_nonlinear_fast(long first, long count, const double *restric
                                     pendulab_max_abs(gd, G[j]))));
         }
     }
-    double worst = gt;
     for (int j = 0; j < count; ++j) {
         const long i = first + j;
         yout[2 * i] = th[j];
@@ -206,9 +206,8 @@ static double block_nonlinear_fast(long first, long count, const double *restric
         mean[i] = s[j] / (double)(steps + 1);
         mabs[i] = sa[j] / (double)(steps + 1);
         mx[i] = m[j];
-        worst = pendulab_max_abs(G[j], worst);
+        guard[j] = pendulab_max_abs(G[j], gt);
     }
-    return worst;
 }
 
 
@@ -246,12 +245,13 @@ static double path_nonlinear_fast(const double *y0, const double *p, double t0, 
 }
 
 
-/* RK4 over one block of PENDULAB_LANES trajectories, variant nonlinear_exact; returns the largest
- * |argument| of a fast sine or cosine met (NaN if any was NaN). */
-static double block_nonlinear_exact(long first, long count, const double *restrict y0,
-                              const double *restrict p, double t0, double dt, long steps,
-                              double *restrict yout, double *restrict mean,
-                              double *restrict mabs, double *restrict mx)
+/* RK4 over one block of trajectories first .. first + count - 1, variant nonlinear_exact, the lane
+ * loop count wide.  guard[j]: the largest |argument| of a fast sine or cosine that
+ * trajectory first + j met, the time terms' included (NaN if any was NaN). */
+static void block_nonlinear_exact(long first, long count, const double *restrict y0,
+                            const double *restrict p, double t0, double dt, long steps,
+                            double *restrict yout, double *restrict mean,
+                            double *restrict mabs, double *restrict mx, double *restrict guard)
 {
     double th[PENDULAB_LANES], om[PENDULAB_LANES];
     double s[PENDULAB_LANES], sa[PENDULAB_LANES], m[PENDULAB_LANES], G[PENDULAB_LANES];
@@ -280,7 +280,7 @@ static double block_nonlinear_exact(long first, long count, const double *restri
         gt = pendulab_max_abs(time_terms_nonlinear_exact(tm, cm), gt);
         gt = pendulab_max_abs(time_terms_nonlinear_exact(tb, cb), gt);
 #pragma omp simd
-        for (int j = 0; j < PENDULAB_LANES; ++j) {
+        for (int j = 0; j < count; ++j) {
             double a0, a1, b0, b1, c0, c1, d0, d1, ga, gb, gc, gd;
             point_nonlinear_exact(ca, ta, th[j], om[j], P[0][j], P[1][j], &a0, &a1, &ga);
             point_nonlinear_exact(cm, tm, th[j] + h2 * a0, om[j] + h2 * a1, P[0][j], P[1][j], &b0, &b1, &gb);
@@ -296,7 +296,6 @@ static double block_nonlinear_exact(long first, long count, const double *restri
                                     pendulab_max_abs(gd, G[j]))));
         }
     }
-    double worst = gt;
     for (int j = 0; j < count; ++j) {
         const long i = first + j;
         yout[2 * i] = th[j];
@@ -304,9 +303,8 @@ static double block_nonlinear_exact(long first, long count, const double *restri
         mean[i] = s[j] / (double)(steps + 1);
         mabs[i] = sa[j] / (double)(steps + 1);
         mx[i] = m[j];
-        worst = pendulab_max_abs(G[j], worst);
+        guard[j] = pendulab_max_abs(G[j], gt);
     }
-    return worst;
 }
 
 
@@ -344,12 +342,13 @@ static double path_nonlinear_exact(const double *y0, const double *p, double t0,
 }
 
 
-/* RK4 over one block of PENDULAB_LANES trajectories, variant linear_fast; returns the largest
- * |argument| of a fast sine or cosine met (NaN if any was NaN). */
-static double block_linear_fast(long first, long count, const double *restrict y0,
-                              const double *restrict p, double t0, double dt, long steps,
-                              double *restrict yout, double *restrict mean,
-                              double *restrict mabs, double *restrict mx)
+/* RK4 over one block of trajectories first .. first + count - 1, variant linear_fast, the lane
+ * loop PENDULAB_LANES wide.  guard[j]: the largest |argument| of a fast sine or cosine that
+ * trajectory first + j met, the time terms' included (NaN if any was NaN). */
+static void block_linear_fast(long first, long count, const double *restrict y0,
+                            const double *restrict p, double t0, double dt, long steps,
+                            double *restrict yout, double *restrict mean,
+                            double *restrict mabs, double *restrict mx, double *restrict guard)
 {
     double th[PENDULAB_LANES], om[PENDULAB_LANES];
     double s[PENDULAB_LANES], sa[PENDULAB_LANES], m[PENDULAB_LANES], G[PENDULAB_LANES];
@@ -394,7 +393,6 @@ static double block_linear_fast(long first, long count, const double *restrict y
                                     pendulab_max_abs(gd, G[j]))));
         }
     }
-    double worst = gt;
     for (int j = 0; j < count; ++j) {
         const long i = first + j;
         yout[2 * i] = th[j];
@@ -402,9 +400,8 @@ static double block_linear_fast(long first, long count, const double *restrict y
         mean[i] = s[j] / (double)(steps + 1);
         mabs[i] = sa[j] / (double)(steps + 1);
         mx[i] = m[j];
-        worst = pendulab_max_abs(G[j], worst);
+        guard[j] = pendulab_max_abs(G[j], gt);
     }
-    return worst;
 }
 
 
@@ -442,12 +439,13 @@ static double path_linear_fast(const double *y0, const double *p, double t0, dou
 }
 
 
-/* RK4 over one block of PENDULAB_LANES trajectories, variant linear_exact; returns the largest
- * |argument| of a fast sine or cosine met (NaN if any was NaN). */
-static double block_linear_exact(long first, long count, const double *restrict y0,
-                              const double *restrict p, double t0, double dt, long steps,
-                              double *restrict yout, double *restrict mean,
-                              double *restrict mabs, double *restrict mx)
+/* RK4 over one block of trajectories first .. first + count - 1, variant linear_exact, the lane
+ * loop count wide.  guard[j]: the largest |argument| of a fast sine or cosine that
+ * trajectory first + j met, the time terms' included (NaN if any was NaN). */
+static void block_linear_exact(long first, long count, const double *restrict y0,
+                            const double *restrict p, double t0, double dt, long steps,
+                            double *restrict yout, double *restrict mean,
+                            double *restrict mabs, double *restrict mx, double *restrict guard)
 {
     double th[PENDULAB_LANES], om[PENDULAB_LANES];
     double s[PENDULAB_LANES], sa[PENDULAB_LANES], m[PENDULAB_LANES], G[PENDULAB_LANES];
@@ -476,7 +474,7 @@ static double block_linear_exact(long first, long count, const double *restrict 
         gt = pendulab_max_abs(time_terms_linear_exact(tm, cm), gt);
         gt = pendulab_max_abs(time_terms_linear_exact(tb, cb), gt);
 #pragma omp simd
-        for (int j = 0; j < PENDULAB_LANES; ++j) {
+        for (int j = 0; j < count; ++j) {
             double a0, a1, b0, b1, c0, c1, d0, d1, ga, gb, gc, gd;
             point_linear_exact(ca, ta, th[j], om[j], P[0][j], P[1][j], &a0, &a1, &ga);
             point_linear_exact(cm, tm, th[j] + h2 * a0, om[j] + h2 * a1, P[0][j], P[1][j], &b0, &b1, &gb);
@@ -492,7 +490,6 @@ static double block_linear_exact(long first, long count, const double *restrict 
                                     pendulab_max_abs(gd, G[j]))));
         }
     }
-    double worst = gt;
     for (int j = 0; j < count; ++j) {
         const long i = first + j;
         yout[2 * i] = th[j];
@@ -500,9 +497,8 @@ static double block_linear_exact(long first, long count, const double *restrict 
         mean[i] = s[j] / (double)(steps + 1);
         mabs[i] = sa[j] / (double)(steps + 1);
         mx[i] = m[j];
-        worst = pendulab_max_abs(G[j], worst);
+        guard[j] = pendulab_max_abs(G[j], gt);
     }
-    return worst;
 }
 
 
@@ -553,32 +549,40 @@ static void *pendulab_worker(void *arg)
 {
     pendulab_job *J = (pendulab_job *)arg;
     const long nblocks = (J->n + PENDULAB_LANES - 1) / PENDULAB_LANES;
+    double guard[PENDULAB_LANES], g1[1];
     for (long b = J->first_block; b < nblocks; b += J->stride) {
         const long first = b * PENDULAB_LANES;
         const long count = J->n - first < PENDULAB_LANES ? J->n - first : PENDULAB_LANES;
-        if (J->library_sine) {
-            if (J->linear)
-                block_linear_exact(first, count, J->y0, J->p, J->t0, J->dt, J->steps,
-                                   J->yout, J->mean, J->mabs, J->mx);
-            else
-                block_nonlinear_exact(first, count, J->y0, J->p, J->t0, J->dt, J->steps,
-                                      J->yout, J->mean, J->mabs, J->mx);
-        } else if (J->linear) {
-            const double w = block_linear_fast(first, count, J->y0, J->p, J->t0, J->dt, J->steps,
-                                               J->yout, J->mean, J->mabs, J->mx);
-            if (PENDULAB_RERUN_LINEAR && !(w <= PENDULAB_SIN_LIMIT)) {
-                ++J->reruns;
-                block_linear_exact(first, count, J->y0, J->p, J->t0, J->dt, J->steps,
-                                   J->yout, J->mean, J->mabs, J->mx);
+        if (J->linear) {
+            if (J->library_sine) {
+                for (long j = 0; j < count; ++j)
+                    block_linear_exact(first + j, 1, J->y0, J->p, J->t0, J->dt, J->steps,
+                                       J->yout, J->mean, J->mabs, J->mx, g1);
+                continue;
             }
+            block_linear_fast(first, count, J->y0, J->p, J->t0, J->dt, J->steps, J->yout,
+                              J->mean, J->mabs, J->mx, guard);
+            for (long j = 0; j < count; ++j)
+                if (PENDULAB_RERUN_LINEAR && !(guard[j] <= PENDULAB_SIN_LIMIT)) {
+                    ++J->reruns;
+                    block_linear_exact(first + j, 1, J->y0, J->p, J->t0, J->dt, J->steps,
+                                       J->yout, J->mean, J->mabs, J->mx, g1);
+                }
         } else {
-            const double w = block_nonlinear_fast(first, count, J->y0, J->p, J->t0, J->dt,
-                                                  J->steps, J->yout, J->mean, J->mabs, J->mx);
-            if (PENDULAB_RERUN_NONLINEAR && !(w <= PENDULAB_SIN_LIMIT)) {
-                ++J->reruns;
-                block_nonlinear_exact(first, count, J->y0, J->p, J->t0, J->dt, J->steps,
-                                      J->yout, J->mean, J->mabs, J->mx);
+            if (J->library_sine) {
+                for (long j = 0; j < count; ++j)
+                    block_nonlinear_exact(first + j, 1, J->y0, J->p, J->t0, J->dt, J->steps,
+                                          J->yout, J->mean, J->mabs, J->mx, g1);
+                continue;
             }
+            block_nonlinear_fast(first, count, J->y0, J->p, J->t0, J->dt, J->steps, J->yout,
+                                 J->mean, J->mabs, J->mx, guard);
+            for (long j = 0; j < count; ++j)
+                if (PENDULAB_RERUN_NONLINEAR && !(guard[j] <= PENDULAB_SIN_LIMIT)) {
+                    ++J->reruns;
+                    block_nonlinear_exact(first + j, 1, J->y0, J->p, J->t0, J->dt, J->steps,
+                                          J->yout, J->mean, J->mabs, J->mx, g1);
+                }
         }
     }
     return NULL;
