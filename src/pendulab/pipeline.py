@@ -24,6 +24,8 @@ PRODUCTS = {
     "quarter_periods": "pendulab.products.quarter_periods",
     "bessel": "pendulab.products.bessel",
     "motion": "pendulab.products.motion",
+    "kernels": "pendulab.products.kernels",
+    "experiments": "pendulab.products.experiments",
 }
 
 

@@ -1,0 +1,343 @@
+"""Product "experiments": the source's numerical experiments (000 sec. 4, Figs. 2-5).
+
+Writes
+
+* ``experiments.json`` - for each map (Figs. 3 and 4: initial conditions
+  "text" (0.06, 0.01), "caption" (0.01, 0.06), "fig4" (0.1, 0.1)) the stable
+  count per criterion and the maps as rows of "0"/"1" (row i: omega0/omega =
+  w0_over_w[i], column j: a/l = a_over_l[j]); the eq. 28 and exact limits of
+  a/l on the grid; the first experiment's stable pairs per initial condition;
+  Fig. 5's nu and errors; Fig. 2's groups.  Numbers rounded to 10 significant
+  digits.
+* ``fig3-text``, ``fig3-caption``, ``fig4``, ``fig5``, ``fig2`` as ``.png``
+  and ``.pdf`` (matplotlib, Agg; no dates or versions in the files, so the
+  bytes are the same on every run).
+
+The body, drive and angle come from the scene.  ``backend = "numpy"`` (the
+default) keeps the bytes independent of a C compiler: trajectories that
+fall and rotate are chaotic, and their verdict can change with the last bit
+of sin(), which differs between the C library and NumPy.
+"""
+
+from pendulab.errors import InputError
+
+OPTIONS = {
+    "maps": (list, ["text", "caption", "fig4"],
+             "initial conditions of the maps: text (0.06, 0.01), caption (0.01, 0.06), fig4 (0.1, 0.1)"),
+    "grid": (int, 100, "points of a/l and of omega0/omega on linspace(0, 1, grid)"),
+    "periods": (int, 300, "drive periods per trajectory"),
+    "steps_per_period": (int, 100, "RK4 steps per drive period"),
+    "criteria": (list, ["mean", "mean-abs", "bounded", "floquet"], "criteria drawn and counted"),
+    "prune": (bool, False, "integrate only where the Floquet verdict may not hold"),
+    "first_experiment": (bool, True, "10 x 10 initial conditions x the parameter grid"),
+    "first_grid": (int, 10, "parameter grid of the first experiment (per axis)"),
+    "first_convention": (str, "linspace", "linspace, right or left (see docs/experiments.md)"),
+    "fig5": (bool, True, "Fig. 5: RK4 against the series solution"),
+    "fig5_orders": (list, [2, 8], "orders of the series solution in Fig. 5"),
+    "fig5_periods": (int, 40, "drive periods shown in Fig. 5"),
+    "fig2": (bool, True, "Fig. 2: fast and slow motion"),
+    "fig2_periods": (int, 40, "drive periods shown in Fig. 2"),
+    "figures": (bool, True, "write the PNG and PDF figures (needs matplotlib)"),
+    "backend": (str, "numpy", "integrator backend: numpy (reproducible bytes), c or auto"),
+    "dask": (str, "", "address of a dask.distributed scheduler for the sweeps ('' = local)"),
+}
+SYSTEMS = ("kapitza",)
+#: Points per axis of the limit curves and of the shaded Floquet region in the figures.
+FINE = 301
+#: Points of omega0/omega at which the eq. 28 curves of the figures are computed.
+CURVE = 41
+
+LABELS = {"mean": r"$|\langle\theta\rangle| < 0.1$", "mean-abs": r"$\langle|\theta|\rangle < 0.1$",
+          "bounded": r"$|\theta| < \pi/2$", "floquet": "Floquet (linear)"}
+
+
+def _round(v):
+    import math
+    return None if v is None or (isinstance(v, float) and math.isnan(v)) else float(f"{v:.10g}")
+
+
+def _rows(m):
+    return ["".join("1" if x else "0" for x in row) for row in m]
+
+
+def system_spec(ctx):
+    """The SystemSpec of a scene (body, drive, angle, inertia as the scene gives them)."""
+    from pendulab.numerics.sweep import SystemSpec, use_stages
+    p = dict(ctx.scene.parameters)
+    inertia = p.get("inertia")
+    spec = SystemSpec(body=p.get("body", "rod"), drive=p.get("drive"), angle=p.get("angle", "up"),
+                      inertia=None if inertia is None else str(inertia))
+    use_stages(spec, ctx.get("equations"), ctx.get("canonical"))
+    return spec
+
+
+def check_options(options):
+    from pendulab.numerics.experiments import CONVENTIONS, INITIAL
+    from pendulab.numerics.sweep import CRITERIA
+    problems = []
+    for m in options["maps"]:
+        if m not in INITIAL:
+            problems.append(f"maps: {m!r} is not one of {', '.join(INITIAL)}")
+    for c in options["criteria"]:
+        if c not in CRITERIA:
+            problems.append(f"criteria: {c!r} is not one of {', '.join(CRITERIA)}")
+    for key, lo, hi in (("grid", 1, 400), ("periods", 1, 10**5), ("steps_per_period", 1, 10**4),
+                        ("first_grid", 1, 100), ("fig5_periods", 1, 10**4), ("fig2_periods", 1, 10**4)):
+        v = options[key]
+        if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
+            problems.append(f"{key} must be a whole number in [{lo}, {hi}], got {v!r}")
+    if options["first_convention"] not in CONVENTIONS:
+        problems.append(f"first_convention must be one of {', '.join(CONVENTIONS)}")
+    for k in options["fig5_orders"]:
+        if isinstance(k, bool) or not isinstance(k, int) or not 2 <= k <= 40:
+            problems.append(f"fig5_orders: {k!r} must be a whole number in [2, 40]")
+    if options["backend"] not in ("numpy", "c", "auto"):
+        problems.append(f"backend must be numpy, c or auto, got {options['backend']!r}")
+    if problems:
+        raise InputError("; ".join(problems))
+
+
+def compute(spec, options):
+    """Every number of the product (no figures): a dict of results (NumPy arrays inside)."""
+    from pendulab.numerics import experiments as E
+    kw = {"backend": options["backend"], "quiet": True}
+    if options["dask"]:
+        kw["dask"] = options["dask"]
+    out = {"maps": {}, "limits": None}
+    for name in options["maps"]:
+        out["maps"][name] = E.stability_maps(spec, options["grid"], E.INITIAL[name], options["periods"],
+                                             options["steps_per_period"], tuple(options["criteria"]),
+                                             prune=options["prune"], **kw)
+    if out["maps"]:
+        w = next(iter(out["maps"].values()))["w0_over_w"]
+        out["limits"] = {"w0_over_w": w, "curves": E.limit_curves(spec, w)}
+        if options["figures"]:
+            # the curves and the shaded Floquet region are drawn finer than the map
+            # (eq. 28 on CURVE points; the exact boundary is the edge of the fine Floquet region)
+            fine = E.S.linspace_grid(FINE)
+            w21 = E.S.linspace_grid(CURVE)
+            out["fine"] = {"w0_over_w": w21, "curves": E.limit_curves(spec, w21, ("eq28",)),
+                           "region_values": fine, "region": E.floquet_region(spec, fine)}
+    if options["first_experiment"]:
+        out["first"] = E.first_experiment(spec, options["first_grid"], options["first_convention"],
+                                          options["periods"], options["steps_per_period"], **kw)
+    if options["fig5"]:
+        out["fig5"] = E.fig5(spec, periods=options["fig5_periods"], orders=tuple(options["fig5_orders"]),
+                             backend=options["backend"])
+    if options["fig2"]:
+        out["fig2"] = E.fig2(spec, periods=options["fig2_periods"], backend=options["backend"])
+    return out
+
+
+def document(results, options, scene_name, spec):
+    from pendulab.numerics.experiments import INITIAL, SOURCE_COUNTS, inertia_ratio
+    doc = {"scene": scene_name, "source": "000_8cba66c4fdf94ac6.txt sec. 4, Figs. 2-5",
+           "body": spec.body, "inertia_ratio": str(inertia_ratio(spec)),
+           "periods": options["periods"], "steps_per_period": options["steps_per_period"],
+           "criteria_note": "mean: |time mean of theta| < 0.1; mean-abs: time mean of |theta| < 0.1; "
+                            "bounded: |theta| < pi/2 throughout; floquet: exact linear verdict "
+                            "(means over the steps + 1 RK4 states)",
+           "maps": {}}
+    for name, m in results["maps"].items():
+        doc["maps"][name] = {
+            "initial": list(INITIAL[name]), "grid": len(m["a_over_l"]),
+            "a_over_l": [_round(v) for v in m["a_over_l"]], "w0_over_w": [_round(v) for v in m["w0_over_w"]],
+            "counts": m["counts"], "simulated": m["simulated"],
+            "rows": {c: _rows(v) for c, v in m["maps"].items()}}
+    if results["limits"] is not None:
+        doc["limits"] = {"w0_over_w": [_round(v) for v in results["limits"]["w0_over_w"]],
+                         **{meth: {"lower": [_round(float(x)) for x in lo],
+                                   "upper": [_round(float(x)) for x in up]}
+                            for meth, (lo, up) in results["limits"]["curves"].items()}}
+    if "first" in results:
+        f = results["first"]
+        ics = [tuple(p) for p in f["initial"]]
+        named = {}
+        for key in ((0.1, 0.1), (0.06, 0.01), (0.01, 0.06)):
+            if key in ics:
+                named[f"{key[0]},{key[1]}"] = {c: v[ics.index(key)] for c, v in f["counts"].items()}
+        doc["first_experiment"] = {
+            "convention": f["convention"], "a_over_l": [_round(v) for v in f["a_over_l"]],
+            "initial": [list(p) for p in ics], "counts": f["counts"],
+            "range": {c: [min(v), max(v)] for c, v in f["counts"].items()},
+            "named": named, "floquet_count": f["floquet"],
+            "source": {"min": SOURCE_COUNTS["min"], "max": SOURCE_COUNTS["max"],
+                       "0.1,0.1": SOURCE_COUNTS[(0.1, 0.1)], "0.06,0.01": SOURCE_COUNTS[(0.06, 0.01)]}}
+    if "fig5" in results:
+        r = results["fig5"]
+        doc["fig5"] = {"theta0": _round(r["theta0"]), "theta1": _round(r["theta1"]),
+                       "nu": {str(k): _round(v) for k, v in r["nu"].items()},
+                       "max_error_vs_rk4": {str(k): _round(v) for k, v in r["error"].items()},
+                       "max_error_vs_rk4_linear": {str(k): _round(v) for k, v in r["error_linear"].items()},
+                       "series_estimate": {str(k): _round(v) for k, v in r["estimate"].items()},
+                       "tau_max": _round(float(r["tau"][-1]))}
+    if "fig2" in results:
+        r = results["fig2"]
+        doc["fig2"] = {k: _round(r[k]) for k in ("theta0", "theta1", "a_over_l", "w0_over_w", "nu")}
+    return doc
+
+
+# ---------------------------------------------------------------------------
+# figures
+# ---------------------------------------------------------------------------
+
+def _matplotlib():
+    try:
+        import matplotlib
+    except ImportError:
+        raise InputError("the experiment figures need matplotlib: pip install 'pendulab[figures]' "
+                         "(or set figures = false)") from None
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return matplotlib, plt
+
+
+RC = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "savefig.dpi": 150,
+      "pdf.fonttype": 42, "path.simplify": False}
+
+
+def save(fig):
+    """{".png": bytes, ".pdf": bytes} with no dates or software versions inside."""
+    import io
+    out = {}
+    for ext, meta in ((".png", {"Software": None}),
+                      (".pdf", {"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None})):
+        buf = io.BytesIO()
+        fig.savefig(buf, format=ext[1:], metadata=meta)
+        out[ext] = buf.getvalue()
+    return out
+
+
+def figure_map(m, limits, title):
+    """2 x 2 panels (one per criterion): stable cells as open circles (as in the source), the
+    Floquet region shaded, eq. 28 (solid) and exact (dashed) limits of a/l drawn over them."""
+    import numpy as np
+    matplotlib, plt = _matplotlib()
+    crits = list(m["maps"])
+    ncol = 2 if len(crits) > 1 else 1
+    nrow = (len(crits) + ncol - 1) // ncol
+    a = np.asarray(m["a_over_l"])
+    w = np.asarray(m["w0_over_w"])
+    with matplotlib.rc_context(RC):
+        fig, axes = plt.subplots(nrow, ncol, figsize=(6.6, 3.3 * nrow + 0.4), squeeze=False,
+                                 sharex=True, sharey=True)
+        try:
+            n = len(a)
+            ms = max(0.6, min(4.0, 220.0 / max(n, 1)))
+            fw = np.asarray(limits["region_values"])
+            from matplotlib.lines import Line2D
+            for k, c in enumerate(crits):
+                ax = axes[k // ncol][k % ncol]
+                region = limits["region"].astype(float)
+                ax.contourf(fw, fw, region, levels=[0.5, 1.5], colors=["0.85"])
+                ax.contour(fw, fw, region, levels=[0.5], colors=["C0"], linestyles=["--"], linewidths=[1.0])
+                ii, jj = np.nonzero(m["maps"][c])
+                ax.plot(a[jj], w[ii], "o", mfc="none", mec="k", ms=ms, mew=0.4, ls="none")
+                lo, up = limits["curves"]["eq28"]
+                ax.plot(lo, limits["w0_over_w"], "-", color="C3", lw=1.0, label="eq. 28")
+                ax.plot(up, limits["w0_over_w"], "-", color="C3", lw=1.0)
+                ax.add_line(Line2D([], [], ls="--", color="C0", lw=1.0, label="exact (Floquet)"))
+                ax.set_xlim(0, 1)
+                ax.set_ylim(0, 1)
+                ax.set_title(f"{LABELS[c]}: {m['counts'][c]} stable")
+                if k // ncol == nrow - 1:
+                    ax.set_xlabel(r"$a/l$")
+                if k % ncol == 0:
+                    ax.set_ylabel(r"$\omega_0/\omega$")
+            axes[0][0].legend(loc="upper left", frameon=False)
+            for k in range(len(crits), nrow * ncol):
+                axes[k // ncol][k % ncol].set_visible(False)
+            fig.suptitle(title)
+            fig.tight_layout()
+            return save(fig)
+        finally:
+            plt.close(fig)
+
+
+def figure_fig5(r):
+    import numpy as np
+    matplotlib, plt = _matplotlib()
+    with matplotlib.rc_context(RC):
+        fig, (ax, ax2) = plt.subplots(2, 1, figsize=(6.6, 5.0), sharex=True,
+                                      gridspec_kw={"height_ratios": [2, 1]})
+        try:
+            tau = r["tau"]
+            ax.plot(tau, r["theta"], "-", color="k", lw=1.0, label="RK4, full equation")
+            styles = ["--", ":", "-."]
+            for k, (n, th) in enumerate(r["series"].items()):
+                ax.plot(tau, th, styles[k % 3], color=f"C{3 + k}", lw=1.0,
+                        label=f"series (eq. 23), order {n}")
+                ax2.semilogy(tau, np.abs(th - r["theta"]) + 1e-18, styles[k % 3], color=f"C{3 + k}", lw=0.8,
+                             label=f"order {n}: max {r['error'][n]:.1e}")
+            ax.set_ylabel(r"$\theta(\tau)$")
+            ax.set_title(rf"$a/l = 1/5$, $\omega_0/\omega = 1/20$, $\theta(0) = {r['theta'][0]:g}$, "
+                         rf"$\dot\theta(0) = 0.01$ ($\theta_0 = {r['theta0']:.3g}$, $\theta_1 = {r['theta1']:.3g}$)")
+            ax.legend(loc="lower left", frameon=False)
+            ax2.set_xlabel(r"$\tau$")
+            ax2.set_ylabel("|series $-$ RK4|")
+            ax2.legend(loc="lower right", frameon=False)
+            fig.tight_layout()
+            return save(fig)
+        finally:
+            plt.close(fig)
+
+
+def figure_fig2(r):
+    matplotlib, plt = _matplotlib()
+    with matplotlib.rc_context(RC):
+        fig, ax = plt.subplots(figsize=(6.6, 3.6))
+        try:
+            tau = r["tau"]
+            ax.plot(tau, r["theta"], "-", color="k", lw=0.9, label=r"$\theta(\tau)$ (RK4, eq. 7)")
+            ax.plot(tau, r["slow"], "--", color="C3", lw=1.2, label="slow part (mean over one drive period)")
+            ax.set_xlabel(r"$\tau$")
+            ax.set_ylabel(r"$\theta$")
+            ax2 = ax.twinx()
+            ax2.plot(tau, r["pivot"], ":", color="0.3", lw=0.6, label=r"pivot $y_0/a$")
+            ax2.set_ylabel(r"pivot $y_0/a$")
+            ax2.set_ylim(-6, 6)
+            ax.set_title(rf"$\theta_0 = {r['theta0']:g}$, $\theta_1 = {r['theta1']:g}$, "
+                         rf"$\theta(0) = {r['theta'][0]:g}$, $\dot\theta(0) = 0$")
+            h1, l1 = ax.get_legend_handles_labels()
+            h2, l2 = ax2.get_legend_handles_labels()
+            fig.legend(h1 + h2, l1 + l2, loc="lower center", ncol=3, frameon=False)
+            fig.tight_layout(rect=(0, 0.07, 1, 1))
+            return save(fig)
+        finally:
+            plt.close(fig)
+
+
+def figures(results):
+    """{file name: bytes} of every figure of ``results``."""
+    from pendulab.numerics.experiments import INITIAL
+    files = {}
+    names = {"text": "fig3-text", "caption": "fig3-caption", "fig4": "fig4"}
+    for name, m in results["maps"].items():
+        th, om = INITIAL[name]
+        title = (rf"$\theta(0) = {th:g}$, $\dot\theta(0) = {om:g}$, {len(m['a_over_l'])}$^2$ pairs; "
+                 "shaded: Floquet-stable; solid: eq. 28; dashed: exact")
+        for ext, data in figure_map(m, results["fine"], title).items():
+            files[names[name] + ext] = data
+    if "fig5" in results:
+        for ext, data in figure_fig5(results["fig5"]).items():
+            files["fig5" + ext] = data
+    if "fig2" in results:
+        for ext, data in figure_fig2(results["fig2"]).items():
+            files["fig2" + ext] = data
+    return files
+
+
+def produce(ctx, options):
+    from pendulab.errors import SceneError
+    from pendulab.io import canonical_json
+
+    try:
+        check_options(options)
+        spec = system_spec(ctx)
+        results = compute(spec, options)
+    except InputError as exc:
+        raise SceneError(ctx.scene.path, "products.experiments", str(exc)) from None
+    files = {"experiments.json": canonical_json(document(results, options, ctx.scene.name, spec))}
+    if options["figures"]:
+        files.update(figures(results))
+    return files
