@@ -190,9 +190,12 @@ def test_length_zero_in_equations_note_and_quarter_periods_refused():
                             "parameters": {"length": "L0*(2 + cos(t))"},
                             "products": {"equations": {}}}, path="s.toml")
     assert "length_note" not in equations.document(Context(positive))
-    with pytest.raises(SceneError, match="quarter_periods.*t = 3/2"):
-        parse_scene({"system": "variable-length", "parameters": {"length": "3 - 2*t"},
+    with pytest.raises(SceneError, match="quarter_periods.*t = 1"):
+        parse_scene({"system": "variable-length", "parameters": {"length": "3 - 2*t - t**2"},
                      "products": {"quarter_periods": {}}}, path="s.toml")
+    # a shortening L0 + v0 t (v0 < 0) is accepted: the product stops at L = 0
+    parse_scene({"system": "variable-length", "parameters": {"length": "3 - 2*t"},
+                 "products": {"quarter_periods": {}}}, path="s.toml")
 
 
 def test_option_ranges_reported_with_the_other_problems():

@@ -284,7 +284,10 @@ def parse_scene(data, path="<scene>"):
                 problems.add(where, f"not available for system {system!r}")
                 continue
             chosen[pname] = validate_options(module, given, where, problems)
-    if built is not None and system == "variable-length" and "quarter_periods" in chosen:
+    if (built is not None and system == "variable-length" and "quarter_periods" in chosen
+            and not built.is_linear_length):
+        # L0 + v0 t reaching zero is the shortening string, whose quarter periods
+        # the product gives up to that moment (pendulab.analyses.bessel_periods)
         found = built.length_zero
         if found is not None and found[1]:
             from pendulab.systems import length_zero_note
