@@ -420,14 +420,14 @@ def test_product_shortening_beyond_zero_is_one_line_exit_2(tmp_path, capsys):
 @pytest.mark.parametrize("options, key, fragment", [
     ("g = 0.0\n", "g", "must be positive"),
     ("L0 = -1.0\n", "L0", "must be positive"),
-    ("v0 = nan\n", "v0", "must be a finite number"),
-    ("t_end = inf\n", "t_end", "must be a finite number"),
+    ("v0 = nan\n", "v0", "finite number"),
+    ("t_end = inf\n", "t_end", "finite number"),
     ("theta_0 = 4.0\n", "theta_0", "0 < |theta_0| < pi"),
     ("theta_0 = 0.0\n", "theta_0", "0 < |theta_0| < pi"),
     ("g = \"9.81\"\n", "g", "must be a number"),
     ("points = 5\n", "points", "between 11 and 100001"),
     ("values = {g = 1.0}\n", "values", "give it as its own option"),
-    ("values = {eps = nan}\n", "values", "must be a finite number"),
+    ("values = {eps = nan}\n", "values", "finite number"),
     ("colour = 1\n", "colour", "unknown option"),
 ])
 def test_bad_product_options(tmp_path, options, key, fragment):

@@ -69,7 +69,10 @@ class _Problems:
         self.bad_values = set()  # keys whose value is unusable (NaN, too deep): one problem each
 
     def add(self, key, problem):
-        if any(key == bad or (key or "").startswith(bad + ".") for bad in self.bad_values):
+        # one problem per unusable value: nothing more at it, inside it, or about
+        # the table that holds it
+        if key and any(key == bad or key.startswith(bad + ".") or bad.startswith(key + ".")
+                       for bad in self.bad_values):
             return
         self.items.append(SceneError(self.path, key, problem))
 
