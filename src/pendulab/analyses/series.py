@@ -283,54 +283,102 @@ def _action(letter, s):
 
 
 class _CharEngine(_Growing):
-    """Rayleigh-Schroedinger orders of a_m(q) or b_m(q); grows on demand, never recomputes.
+    """The exact coefficients of a_m(q) or b_m(q); grows on demand, the computed orders are final.
 
     On span{phi_s} (the frequencies s of m's parity class, DLMF 28.4) the
     equation w'' + (a - 2q cos 2z) w = 0 reads a w = D w + q V w with D =
-    diag(s^2) and V the action of 2 cos 2z.  With intermediate normalisation
-    (the phi_m component of every correction is 0):
+    diag(s^2) and V the action of 2 cos 2z (:func:`_action`), a tridiagonal
+    matrix.  a_m(q) is the eigenvalue that starts at m^2, i.e. the root
+    delta(q) = a - m^2 with delta(0) = 0 of the Hill determinant
+    det(D + qV - (m^2 + delta) I), a simple root at q = 0.  Truncating the
+    basis at a frequency T changes the eigenvalue only at order q^(T - m + 2)
+    and beyond (a path from phi_m to the first omitted frequency and back
+    takes T - m + 2 steps of V), so T = m + p + 2 makes the root exact modulo
+    q^p.  The root is lifted by Newton's iteration on power series, each step
+    doubling the number of exact coefficients,
 
-        lam_n = (V x_{n-1})_m,
-        x_n[t] = (sum_{p=1}^{n-1} lam_p x_{n-p}[t] - (V x_{n-1})_t) / (t^2 - m^2),  t != m.
+        delta <- delta - det / (d det / d delta)   (mod q^p, p = 2k),
 
-    x_n is supported on the frequencies within 2n of m, so no basis truncation
-    is needed and the orders already computed are final.
+    with the determinant and its delta-derivative evaluated at the power
+    series delta(q) by the three-term continuant recurrence (exact rational
+    power series: python-flint fmpq_poly, truncated products).  A request for
+    a higher order lifts the coefficients already known; they are never
+    recomputed.  ``_next`` appends one order of the lifted series (the test
+    of the cache counts its calls).
     """
 
     def __init__(self, letter, m):
         super().__init__()
         self.letter, self.m = letter, m
         self.lam = [Fraction(m * m)]
-        self.x = [{m: Fraction(1)}]
+        self._lifted = []          # exact orders computed by the last lift, not yet appended
 
     @property
     def order(self):
         return len(self.lam) - 1
 
+    def extend(self, order):
+        with self.lock:
+            if order > self.order + len(self._lifted):
+                self._lifted = _lift_characteristic(self.letter, self.m, self.lam, order)[self.order + 1:]
+            while self.order < order:
+                self._next()
+
     def _next(self):
-        letter, m, lam, x = self.letter, self.m, self.lam, self.x
-        n = self.order + 1
-        vx = {}
-        for s, v in x[n - 1].items():
-            for t, w in _action(letter, s).items():
-                vx[t] = vx.get(t, 0) + w * v
-        lam.append(vx.get(m, Fraction(0)))
-        support = set(vx)
-        for p in range(1, n):
-            support.update(x[n - p])
-        xn = {}
-        for t in support:
-            if t == m:
-                continue
-            acc = -vx.get(t, 0)
-            for p in range(1, n):
-                if lam[p]:
-                    v = x[n - p].get(t)
-                    if v:
-                        acc += lam[p] * v
-            if acc:
-                xn[t] = Fraction(acc) / (t * t - m * m)
-        x.append(xn)
+        if not self._lifted:
+            self._lifted = _lift_characteristic(self.letter, self.m, self.lam, self.order + 1)[self.order + 1:]
+        self.lam.append(self._lifted.pop(0))
+
+
+def _series_inverse(g, prec):
+    """1/g modulo q^prec for an fmpq_poly g with g(0) != 0 (Newton: y <- y + y (1 - g y))."""
+    from flint import fmpq_poly
+    y = fmpq_poly([1 / g.coeffs()[0]])
+    k = 1
+    while k < prec:
+        k = min(2 * k, prec)
+        e = fmpq_poly([1]) - g.mul_low(y, k)
+        y = y + y.mul_low(e, k)
+    return y
+
+
+def _lift_characteristic(letter, m, known, order):
+    """Coefficients 0 .. ``order`` of a_m(q) ("a") or b_m(q) ("b") from the exact ones in ``known``.
+
+    Newton's iteration on the truncated Hill determinant (see :class:`_CharEngine`):
+    the continuant f_i = (s_i^2 - m^2 + q V_ii - delta) f_{i-1} - q^2 V_{i-1,i} V_{i,i-1} f_{i-2}
+    over the basis frequencies s_0 < s_1 < ... <= T, and its delta-derivative
+    g_i (needed only modulo q^(p - k), since det = O(q^k)).
+    """
+    from flint import fmpq, fmpq_poly
+    s0 = m % 2 if letter == "a" else (1 if m % 2 else 2)
+    delta = fmpq_poly([0] + [fmpq(c.numerator, c.denominator) for c in known[1:]])
+    k = len(known)
+    while k < order + 1:
+        p = min(2 * k, order + 1)
+        h = p - k
+        f1, f2, g1, g2 = fmpq_poly([1]), fmpq_poly([]), fmpq_poly([]), fmpq_poly([])
+        prev = None
+        for s in range(s0, m + p + 3, 2):
+            action = _action(letter, s)
+            c, v = s * s - m * m, action.get(s, 0)
+            f = c * f1 - delta.mul_low(f1, p)
+            g = c * g1 - delta.mul_low(g1, h) - f1.truncate(h)
+            if v:
+                f += v * f1.left_shift(1).truncate(p)
+                g += v * g1.left_shift(1).truncate(h)
+            if prev is not None:
+                w = _action(letter, prev).get(s, 0) * action.get(prev, 0)
+                if w:
+                    f -= w * f2.left_shift(2).truncate(p)
+                    g -= w * g2.left_shift(2).truncate(h)
+            f2, f1, g2, g1 = f1, f, g1, g
+            prev = s
+        # det = f1 = O(q^k): delta -= (f1 / q^k) / g1 * q^k  (mod q^p)
+        delta = delta - f1.right_shift(k).mul_low(_series_inverse(g1, h), h).left_shift(k)
+        k = p
+    coeffs = delta.coeffs() + [fmpq(0)] * (order + 1)
+    return [Fraction(m * m)] + [Fraction(int(c.p), int(c.q)) for c in coeffs[1:order + 1]]
 
 
 class CharacteristicSeries:
