@@ -35,8 +35,9 @@ perturbation scheme on the Fourier basis of each parity class (cos(2rz),
 cos((2r+1)z), sin((2r+1)z), sin((2r+2)z), DLMF 28.4), where the unperturbed
 value m^2 is simple: the action of 2 cos 2z on the basis is worked out from
 the product formula (with cos(-x) = cos x, sin(-x) = -sin x, sin 0 = 0), and
-Rayleigh-Schroedinger coefficients with intermediate normalisation give
-a_m(q) or b_m(q) as exact rationals to any order.
+a_m(q) or b_m(q) is the root of the truncated Hill determinant that starts at
+m^2, lifted as an exact rational power series by Newton's iteration
+(:class:`_CharEngine`).
 
 Example (000 eq. 27 and c_1, found by the recursion):
 
@@ -63,7 +64,7 @@ __all__ = [
     "stability_interval_integer_series", "RADII", "MAX_ORDER", "INTEGER_TOLERANCE",
 ]
 
-#: Highest order accepted (order 100 takes minutes; see docs/series.md).
+#: Highest order accepted (the nu series: order 100 takes about 25 s, 150 a few minutes; docs/series.md).
 MAX_ORDER = 400
 #: nu closer than this to a nonzero integer is refused (the series has poles there).
 INTEGER_TOLERANCE = 1e-6

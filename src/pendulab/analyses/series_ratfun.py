@@ -11,17 +11,20 @@ is stored as
 
 with ``num`` a tuple of Python integers (coefficients, lowest degree first),
 ``den`` a positive integer and ``exps`` a sorted tuple of pairs (j, e_j), e_j > 0.
+Inside the engine the numerator is a python-flint ``fmpz_poly`` (attribute
+``poly``); the tuple ``num`` is made from it on first access.
 
 Sums take the least common multiple of the denominators (the exponents' maximum,
-no polynomial gcd); products add exponents.  Polynomial products are done by
-Kronecker substitution: a polynomial with integer coefficients is evaluated at
-nu = 2**b (b larger than any coefficient of the result needs), the integers are
-multiplied by Python's big-integer arithmetic, and the digits of the result,
-read in base 2**b with signs, are the coefficients of the product.  A whole sum
-of products is formed in that packed form and unpacked once.  Lowest terms are
-restored per coefficient by :func:`reduce`: a factor (nu + j) cancels when the
-numerator vanishes at nu = -j, which is tested modulo a prime (vectorised over
-all j) and confirmed by exact synthetic division.
+no polynomial gcd); products add exponents.  :func:`linear_sum` forms a whole
+sum of products over that common denominator, each product times its cofactor
+prod (nu + j)**(E_j - e_j), with FLINT's polynomial multiplication (Kronecker
+substitution and FFT in GMP integers; CPython's own big-integer product, used
+before, is Karatsuba and was the cost at high order).  Lowest terms are
+restored per coefficient by :func:`reduce`: a factor (nu + j) cancels exactly
+while the numerator vanishes at nu = -j (exact evaluation, then exact division
+by nu + j), and the integer content is divided out.  The result is the same
+unique representation (lowest terms, den > 0) as before, so every printed
+coefficient is unchanged.
 """
 
 from fractions import Fraction
