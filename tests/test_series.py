@@ -686,3 +686,15 @@ def test_nu_series_lower_limit_converges_but_upper_does_not():
     assert ups[-1] < exact[1] - 0.05
     # orders 4, 8, ... have no fold: theta0 -> +infinity as nu -> 1
     assert se.stability_interval_series(4, ratio, iota)[1] is None
+
+
+def test_coefficients_pickle_as_their_exact_data():
+    """Engine values hold FLINT polynomials inside; they still pickle (e.g. to dask workers) exactly."""
+    import pickle
+    s = se.mathieu_series(8)
+    for n in (4, 8):
+        for k, v in s.c_raw[n]:
+            back = pickle.loads(pickle.dumps(v))
+            assert back == v and back.text() == v.text() and back.evaluate(Fraction(1, 3)) == v.evaluate(Fraction(1, 3))
+    a = s.alpha_raw[8]
+    assert pickle.loads(pickle.dumps(a)).degree() == a.degree()

@@ -61,6 +61,10 @@ class RatFun:
             self._num = tuple(int(c) for c in self._poly.coeffs())
         return self._num
 
+    def __reduce__(self):
+        # pickled as the plain data (fmpz_poly itself does not pickle)
+        return (RatFun, (self.num, self.den, self.exps))
+
     @property
     def poly(self):
         if self._poly is None:
