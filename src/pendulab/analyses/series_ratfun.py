@@ -30,8 +30,6 @@ coefficient is unchanged.
 from fractions import Fraction
 from math import gcd, lcm
 
-from flint import fmpz_poly
-
 __all__ = ["RatFun", "ZERO", "ONE", "linear_sum", "reduce", "reflect"]
 
 class RatFun:
@@ -68,6 +66,7 @@ class RatFun:
     @property
     def poly(self):
         if self._poly is None:
+            from flint import fmpz_poly  # imported on first use: `import pendulab...series` stays light
             self._poly = fmpz_poly(list(self._num))
         return self._poly
 
@@ -179,13 +178,11 @@ def reflect(x):
     sign = -1 if sum(e for _, e in x.exps) % 2 else 1
     exps = sorted((-j, e) for j, e in x.exps)
     if x._num is None:  # engine-internal value: stay in flint
-        poly = x._poly(_MINUS_NU)
+        from flint import fmpz_poly
+        poly = x._poly(fmpz_poly([0, -1]))
         return RatFun.from_poly(-poly if sign < 0 else poly, x.den, exps)
     num = [(c if i % 2 == 0 else -c) * sign for i, c in enumerate(x.num)]
     return RatFun(num, x.den, exps)
-
-
-_MINUS_NU = fmpz_poly([0, -1])
 
 
 # -- sums of products (python-flint) -----------------------------------------------------
@@ -198,6 +195,7 @@ def _linear_power(j, e):
     key = (j, e)
     value = _LINEAR.get(key)
     if value is None:
+        from flint import fmpz_poly
         value = _LINEAR[key] = fmpz_poly([j, 1]) ** e
     return value
 
