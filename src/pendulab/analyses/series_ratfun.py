@@ -11,50 +11,70 @@ is stored as
 
 with ``num`` a tuple of Python integers (coefficients, lowest degree first),
 ``den`` a positive integer and ``exps`` a sorted tuple of pairs (j, e_j), e_j > 0.
+Inside the engine the numerator is a python-flint ``fmpz_poly`` (attribute
+``poly``); the tuple ``num`` is made from it on first access.
 
 Sums take the least common multiple of the denominators (the exponents' maximum,
-no polynomial gcd); products add exponents.  Polynomial products are done by
-Kronecker substitution: a polynomial with integer coefficients is evaluated at
-nu = 2**b (b larger than any coefficient of the result needs), the integers are
-multiplied by Python's big-integer arithmetic, and the digits of the result,
-read in base 2**b with signs, are the coefficients of the product.  A whole sum
-of products is formed in that packed form and unpacked once.  Lowest terms are
-restored per coefficient by :func:`reduce`: a factor (nu + j) cancels when the
-numerator vanishes at nu = -j, which is tested modulo a prime (vectorised over
-all j) and confirmed by exact synthetic division.
+no polynomial gcd); products add exponents.  :func:`linear_sum` forms a whole
+sum of products over that common denominator, each product times its cofactor
+prod (nu + j)**(E_j - e_j), with FLINT's polynomial multiplication (Kronecker
+substitution and FFT in GMP integers; CPython's own big-integer product, used
+before, is Karatsuba and was the cost at high order).  Lowest terms are
+restored per coefficient by :func:`reduce`: a factor (nu + j) cancels exactly
+while the numerator vanishes at nu = -j (exact evaluation, then exact division
+by nu + j), and the integer content is divided out.  The result is the same
+unique representation (lowest terms, den > 0) as before, so every printed
+coefficient is unchanged.
 """
 
 from fractions import Fraction
-from math import gcd, lcm, log2
-
-import numpy as np
+from math import gcd, lcm
 
 __all__ = ["RatFun", "ZERO", "ONE", "linear_sum", "reduce", "reflect"]
 
-#: a prime below 2**26: residues times residues, summed over 2**10 terms, fit in int64
-_PRIME = 67108859
-
-
 class RatFun:
-    """num(nu) / (den * prod (nu + j)**e) with integer data; immutable by convention."""
+    """num(nu) / (den * prod (nu + j)**e) with integer data; immutable by convention.
 
-    __slots__ = ("num", "den", "exps", "_l1bits")
+    ``num`` is the tuple of Python integers (lowest degree first); inside the
+    engine the numerator is held as a python-flint ``fmpz_poly`` (``poly``) and
+    the tuple is made from it on first access.
+    """
 
-    def __init__(self, num, den=1, exps=()):
-        self.num = tuple(num)
+    __slots__ = ("_num", "_poly", "den", "exps")
+
+    def __init__(self, num, den=1, exps=(), poly=None):
+        self._num = None if num is None else tuple(num)
+        self._poly = poly
         self.den = den
         self.exps = tuple(exps)
-        self._l1bits = None
+
+    @classmethod
+    def from_poly(cls, poly, den=1, exps=()):
+        """The value poly(nu) / (den * prod (nu + j)**e) for an ``fmpz_poly`` numerator."""
+        return cls(None, den, exps, poly)
+
+    @property
+    def num(self):
+        if self._num is None:
+            self._num = tuple(int(c) for c in self._poly.coeffs())
+        return self._num
+
+    def __reduce__(self):
+        # pickled as the plain data (fmpz_poly itself does not pickle)
+        return (RatFun, (self.num, self.den, self.exps))
+
+    @property
+    def poly(self):
+        if self._poly is None:
+            from flint import fmpz_poly  # imported on first use: `import pendulab...series` stays light
+            self._poly = fmpz_poly(list(self._num))
+        return self._poly
 
     # -- inspection ------------------------------------------------------------------
     def is_zero(self):
-        return not self.num
-
-    def l1bits(self):
-        """Bit length of the sum of |coefficients| of the numerator (a size bound)."""
-        if self._l1bits is None:
-            self._l1bits = sum(abs(c) for c in self.num).bit_length()
-        return self._l1bits
+        if self._num is not None:
+            return not self._num
+        return self._poly.is_zero()
 
     def degree(self):
         """(degree of the numerator, degree of the denominator)."""
@@ -133,20 +153,20 @@ class RatFun:
         """This value times the nonzero integer ``factor``."""
         if factor == 0:
             return ZERO
-        return RatFun([c * factor for c in self.num], self.den, self.exps)
+        return RatFun.from_poly(self.poly * factor, self.den, self.exps)
 
     def divided_by_linear(self, const, j):
         """This value divided by const*(nu + j) (const a nonzero integer)."""
-        num = self.num
+        poly = self.poly
         den = self.den * const
         if den < 0:
-            den, num = -den, [-c for c in num]
+            den, poly = -den, -poly
         exps = dict(self.exps)
         exps[j] = exps.get(j, 0) + 1
-        return RatFun(num, den, sorted(exps.items()))
+        return RatFun.from_poly(poly, den, sorted(exps.items()))
 
     def negated(self):
-        return RatFun([-c for c in self.num], self.den, self.exps)
+        return RatFun.from_poly(-self.poly, self.den, self.exps)
 
 
 ZERO = RatFun(())
@@ -156,44 +176,39 @@ ONE = RatFun((1,))
 def reflect(x):
     """x(-nu): num(-nu) / (den * prod (-nu + j)**e) = (-1)**sum(e) num(-nu) / (den * prod (nu - j)**e)."""
     sign = -1 if sum(e for _, e in x.exps) % 2 else 1
+    exps = sorted((-j, e) for j, e in x.exps)
+    if x._num is None:  # engine-internal value: stay in flint
+        from flint import fmpz_poly
+        poly = x._poly(fmpz_poly([0, -1]))
+        return RatFun.from_poly(-poly if sign < 0 else poly, x.den, exps)
     num = [(c if i % 2 == 0 else -c) * sign for i, c in enumerate(x.num)]
-    return RatFun(num, x.den, sorted((-j, e) for j, e in x.exps))
+    return RatFun(num, x.den, exps)
 
 
-# -- Kronecker packing ---------------------------------------------------------------
+# -- sums of products (python-flint) -----------------------------------------------------
 
-def _ones(count, width):
-    """sum_{i < count} 256**(width*i): the packed polynomial 1 + B + ... + B**(count-1)."""
-    return int.from_bytes((b"\x01" + b"\x00" * (width - 1)) * count, "little")
+_LINEAR = {}
 
 
-def _pack(num, width):
-    """num(2**(8*width)) for integer coefficients with |c| < 2**(8*width-1)."""
-    if not num:
-        return 0
-    half = 1 << (8 * width - 1)
-    data = b"".join((c + half).to_bytes(width, "little") for c in num)
-    return int.from_bytes(data, "little") - (_ones(len(num), width) << (8 * width - 1))
+def _linear_power(j, e):
+    """(nu + j)**e as an fmpz_poly (cached)."""
+    key = (j, e)
+    value = _LINEAR.get(key)
+    if value is None:
+        from flint import fmpz_poly
+        value = _LINEAR[key] = fmpz_poly([j, 1]) ** e
+    return value
 
 
-def _unpack(value, width, count):
-    """Coefficients (at most ``count``) of the polynomial packed in ``value`` (signed digits)."""
-    shift = 8 * width - 1
-    half = 1 << shift
-    data = (value + (_ones(count, width) << shift)).to_bytes(count * width, "little")
-    out = [int.from_bytes(data[i:i + width], "little") - half for i in range(0, count * width, width)]
-    while out and out[-1] == 0:
-        out.pop()
-    return out
-
-
-def _linear_product(base, exps):
-    """prod (base + j)**e as an integer (the packed polynomial prod (nu + j)**e)."""
-    factors = [(base + j) ** e for j, e in exps if e]
-    while len(factors) > 1:  # balanced product tree
+def _cofactor(exps):
+    """prod (nu + j)**e as an fmpz_poly, by a balanced product tree."""
+    factors = [_linear_power(j, e) for j, e in exps if e]
+    if not factors:
+        return None
+    while len(factors) > 1:
         factors = [factors[i] * factors[i + 1] if i + 1 < len(factors) else factors[i]
                    for i in range(0, len(factors), 2)]
-    return factors[0] if factors else 1
+    return factors[0]
 
 
 def linear_sum(terms):
@@ -209,115 +224,49 @@ def linear_sum(terms):
     for t in terms:
         den = 1
         exps = {}
-        deg = 0
-        bits = 0
         for f in t:
             den *= f.den
             for j, e in f.exps:
                 exps[j] = exps.get(j, 0) + e
-            deg += len(f.num) - 1
-            bits += f.l1bits()
-        prods.append((t, den, exps, deg, bits))
+        prods.append((t, den, exps))
     big_den = 1
     big_exps = {}
-    for _, den, exps, _, _ in prods:
+    for _, den, exps in prods:
         big_den = lcm(big_den, den)
         for j, e in exps.items():
             if e > big_exps.get(j, 0):
                 big_exps[j] = e
-    # bound on the coefficients of the result -> digit width
-    bound = 0
-    ndeg = 0
-    for t, den, exps, deg, bits in prods:
-        cof = [(j, big_exps[j] - exps.get(j, 0)) for j in big_exps]
-        cof_bits = sum(e * log2(1 + abs(j)) for j, e in cof)
-        cof_deg = sum(e for _, e in cof)
-        bound = max(bound, bits + (big_den // den).bit_length() + int(cof_bits) + 2)
-        ndeg = max(ndeg, deg + cof_deg)
-    bound += len(prods).bit_length() + 2
-    width = bound // 8 + 1
-    base = 1 << (8 * width)
-    total = 0
-    for t, den, exps, deg, bits in prods:
-        cof = [(j, big_exps[j] - exps.get(j, 0)) for j in sorted(big_exps)]
-        # multiply the smaller factors first (Karatsuba is cheapest on balanced sizes)
-        factors = sorted([_pack(f.num, width) for f in t] + [_linear_product(base, cof)],
-                         key=lambda v: v.bit_length())
-        value = big_den // den
-        for f in factors:
-            value *= f
-        total += value
-    num = _unpack(total, width, ndeg + 1)
-    return RatFun(num, big_den, sorted((j, e) for j, e in big_exps.items() if e))
+    total = None
+    for t, den, exps in prods:
+        cof = _cofactor([(j, big_exps[j] - exps.get(j, 0)) for j in sorted(big_exps)])
+        factors = [f.poly for f in t] + ([cof] if cof is not None else [])
+        # multiply the shorter factors first
+        factors.sort(key=lambda p: p.length())
+        value = factors[0] * (big_den // den)
+        for f in factors[1:]:
+            value = value * f
+        total = value if total is None else total + value
+    if total.is_zero():
+        return ZERO
+    return RatFun.from_poly(total, big_den, sorted((j, e) for j, e in big_exps.items() if e))
 
 
 # -- lowest terms ----------------------------------------------------------------------
 
-_POWERS = {}
-
-
-def _powers(j, length):
-    """(-j)**i mod p for i < length (cached, grown geometrically)."""
-    row = _POWERS.get(j)
-    if row is None or len(row) < length:
-        size = max(length, 2 * (0 if row is None else len(row)), 16)
-        row = np.empty(size, dtype=np.int64)
-        v, m = 1, (-j) % _PRIME
-        for i in range(size):
-            row[i] = v
-            v = v * m % _PRIME
-        _POWERS[j] = row
-    return row[:length]
-
-
-def _root_candidates(num, js):
-    """The j in ``js`` for which num(-j) = 0 modulo the prime (a superset of the true roots)."""
-    if len(num) > 1000:  # keep the int64 sum below 2**63
-        return list(js)
-    residues = np.array([c % _PRIME for c in num], dtype=np.int64)
-    table = np.stack([_powers(j, len(num)) for j in js])
-    values = (table @ residues) % _PRIME
-    return [j for j, v in zip(js, values) if v == 0]
-
-
-def _divide_root(num, j):
-    """(quotient, remainder) of num(nu) / (nu + j) by synthetic division."""
-    root = -j
-    out = [0] * (len(num) - 1)
-    acc = 0
-    for i in range(len(num) - 1, -1, -1):
-        acc = acc * root + num[i]
-        if i:
-            out[i - 1] = acc
-    return out, acc
-
-
 def reduce(x):
     """``x`` in lowest terms: cancel common factors (nu + j) and the integer content."""
-    num = list(x.num)
-    if not num:
+    if x.is_zero():
         return ZERO
+    poly = x.poly
     exps = dict(x.exps)
-    pending = [j for j, e in exps.items() if e]
-    while pending and len(num) > 1:
-        hits = _root_candidates(num, pending)
-        cancelled = []
-        for j in hits:
-            quotient, rem = _divide_root(num, j)
-            if rem == 0:
-                num = quotient
-                exps[j] -= 1
-                cancelled.append(j)
-                if len(num) == 1:
-                    break
-        pending = [j for j in cancelled if exps[j] > 0]
+    for j in sorted(exps):
+        # a factor (nu + j) of the denominator cancels while the numerator vanishes at nu = -j
+        while exps[j] and poly.degree() > 0 and poly(-j) == 0:
+            poly, rem = divmod(poly, _linear_power(j, 1))
+            exps[j] -= 1
     den = x.den
-    g = den
-    for c in num:
-        g = gcd(g, c)
-        if g == 1:
-            break
+    g = gcd(int(poly.content()), den)
     if g > 1:
-        num = [c // g for c in num]
+        poly = poly // g
         den //= g
-    return RatFun(num, den, sorted((j, e) for j, e in exps.items() if e))
+    return RatFun.from_poly(poly, den, sorted((j, e) for j, e in exps.items() if e))
