@@ -146,3 +146,15 @@ def test_product_bad_options_name_the_key(tmp_path, capsys):
     assert code == 2 and len(err) == 1
     assert "products.experiments" in err[0] and "fig9" in err[0] and "median" in err[0]
     assert not (tmp_path / "g" / "exp").exists()
+
+
+def test_fig5_reports_the_rk4_error_against_dop853():
+    # RK4 is fourth order (000 sec. 4 uses it with 100 steps per period): the
+    # error the product reports must fall about 16x when the step is halved,
+    # which an error of the series or of the criterion would not do.
+    from pendulab.numerics.experiments import fig5
+    coarse = fig5(periods=5, steps_per_period=50, orders=(2,), backend="numpy")
+    fine = fig5(periods=5, steps_per_period=100, orders=(2,), backend="numpy")
+    for key in ("rk4_error", "rk4_error_linear"):
+        assert 0 < fine[key] < coarse[key]
+        assert 10 < coarse[key] / fine[key] < 24

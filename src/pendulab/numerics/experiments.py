@@ -214,7 +214,8 @@ def fig5(system=None, a_over_l=0.2, w0_over_w=0.05, theta_init=0.06, omega_init=
     Returns {"tau", "theta" (nonlinear RK4), "theta_linear", "series": {order:
     theta}, "nu": {order: nu, "floquet": exact exponent}, "error": {order:
     max |series - RK4 nonlinear|}, "error_linear": {order: max |series - RK4
-    linear|}, "theta0", "theta1"}.
+    linear|}, "theta0", "theta1", "rk4_error", "rk4_error_linear" (max |RK4 -
+    DOP853 at rtol 1e-13| of theta, the integrator's own error)}.
     """
     import numpy as np
 
@@ -223,13 +224,14 @@ def fig5(system=None, a_over_l=0.2, w0_over_w=0.05, theta_init=0.06, omega_init=
     system = system or S.SystemSpec()
     spec = S.make_spec(system, a_over_l=[a_over_l], w0_over_w=[w0_over_w], theta_init=theta_init,
                        omega_init=omega_init, periods=periods, steps_per_period=steps_per_period)
-    run = S.trajectory(spec, backend=backend)
-    lin = S.trajectory(S.replace(spec, linear=True), backend=backend)
+    run = S.trajectory(spec, reference=True, backend=backend)
+    lin = S.trajectory(S.replace(spec, linear=True), reference=True, backend=backend)
     t0, t1 = (float(v) for v in S.mathieu_pair(system)(a_over_l, w0_over_w))
     tau = run["tau"]
     out = {"tau": tau, "theta": run["states"][:, 0], "theta_linear": lin["states"][:, 0],
            "series": {}, "nu": {"floquet": float(exponent(t0, t1).real)}, "error": {},
-           "error_linear": {}, "estimate": {}, "theta0": t0, "theta1": t1}
+           "error_linear": {}, "estimate": {}, "theta0": t0, "theta1": t1,
+           "rk4_error": run["max_error_theta"], "rk4_error_linear": lin["max_error_theta"]}
     for n in orders:
         th, nu, est = series_solution(tau, theta_init, omega_init, t0, t1, n)
         out["series"][n] = th
@@ -286,7 +288,7 @@ def fig2(system=None, theta0=-2e-3, theta1=0.2, theta_init=0.1, omega_init=0.0, 
     average that separates the slow motion from the fast one, 000 sec. 2.3);
     ``pivot`` is y0/a from the drive.  Returns {"tau", "theta", "slow",
     "pivot", "a_over_l", "w0_over_w", "nu" (exact exponent: slow angular
-    frequency in tau)}.
+    frequency in tau), "rk4_error" (max |RK4 - DOP853| of theta)}.
     """
     import numpy as np
 
@@ -297,7 +299,7 @@ def fig2(system=None, theta0=-2e-3, theta1=0.2, theta_init=0.1, omega_init=0.0, 
     spec = S.make_spec(system, a_over_l=[a], w0_over_w=[w], theta_init=theta_init,
                        omega_init=omega_init, periods=periods, steps_per_period=steps_per_period,
                        linear=True)
-    run = S.trajectory(spec, backend=backend)
+    run = S.trajectory(spec, reference=True, backend=backend)
     theta = run["states"][:, 0]
     k = steps_per_period
     kernel = np.ones(k + 1)
@@ -308,4 +310,4 @@ def fig2(system=None, theta0=-2e-3, theta1=0.2, theta_init=0.1, omega_init=0.0, 
     slow[len(slow) - half:] = np.nan
     return {"tau": run["tau"], "theta": theta, "slow": slow, "pivot": pivot_height(system)(run["tau"]),
             "a_over_l": a, "w0_over_w": w, "theta0": theta0, "theta1": theta1,
-            "nu": float(exponent(theta0, theta1).real)}
+            "nu": float(exponent(theta0, theta1).real), "rk4_error": run["max_error_theta"]}

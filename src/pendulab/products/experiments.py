@@ -170,10 +170,13 @@ def document(results, options, scene_name, spec):
                        "max_error_vs_rk4": {str(k): _round(v) for k, v in r["error"].items()},
                        "max_error_vs_rk4_linear": {str(k): _round(v) for k, v in r["error_linear"].items()},
                        "series_estimate": {str(k): _round(v) for k, v in r["estimate"].items()},
-                       "tau_max": _round(float(r["tau"][-1]))}
+                       "tau_max": _round(float(r["tau"][-1])),
+                       "rk4_error_vs_dop853": _error(r["rk4_error"]),
+                       "rk4_error_vs_dop853_linear": _error(r["rk4_error_linear"])}
     if "fig2" in results:
         r = results["fig2"]
         doc["fig2"] = {k: _round(r[k]) for k in ("theta0", "theta1", "a_over_l", "w0_over_w", "nu")}
+        doc["fig2"]["rk4_error_vs_dop853"] = _error(r["rk4_error"])
     return doc
 
 
@@ -325,6 +328,11 @@ def figures(results):
         for ext, data in figure_fig2(results["fig2"]).items():
             files["fig2" + ext] = data
     return files
+
+
+def _error(value):
+    """An integrator error to 3 significant digits: its size, not its last bits."""
+    return float(f"{value:.3g}")
 
 
 def produce(ctx, options):
