@@ -25,6 +25,19 @@ def available_commands():
     return [n for n in COMMANDS if importlib.util.find_spec(f"pendulab.commands.{n}")]
 
 
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse with its usage errors as one line, ``pendulab: error: ...``, exit status 2.
+
+    argparse prints the usage text before its message; here the message says
+    where to look instead (sub-command parsers are of this class too).
+    """
+
+    def error(self, message):
+        print(f"pendulab: error: {self.prog}: {message} (see '{self.prog} --help')",
+              file=sys.stderr)
+        raise SystemExit(2)
+
+
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
     """Show "(default: X)" only for a real default the help does not already state.
 
@@ -92,7 +105,7 @@ def join_negative_values(argv, value_options, known_options=()):
 
 
 def make_parser():
-    parser = argparse.ArgumentParser(
+    parser = ArgumentParser(
         prog="pendulab",
         description="Symbolic-numeric derivations for parametrically driven pendulums.",
         epilog="Run 'pendulab COMMAND --help' for the options of each command.",

@@ -66,6 +66,11 @@ def run(args):
             problems.append(f"{name} must be >= 0, got {v!r}")
     if periods is not None and steps is not None and periods * steps > 10**7:
         problems.append(f"--periods x --steps-per-period must be at most 1e7, got {periods * steps}")
+    elif (args.reference and periods is not None and steps is not None
+          and periods * steps > 10**6):
+        # DOP853 at rtol 1e-13 takes about 10 s per 1e5 periods of the drive
+        problems.append("with --reference, --periods x --steps-per-period must be at most 1e6 "
+                        f"(DOP853 at rtol 1e-13 is slow over long runs), got {periods * steps}")
     if problems:
         raise InputError("; ".join(problems))
     spec = S.make_spec(system, a_over_l=[a], w0_over_w=[w], theta_init=th, omega_init=om,

@@ -58,6 +58,11 @@ BOUND = math.pi / 2
 CHUNK_SIZE = 250
 #: Largest number of cells of one sweep (memory of the stats arrays stays ~ 100 MB).
 MAX_CELLS = 4_000_000
+#: Largest number of RK4 steps of all trajectories of one sweep together: 3e9
+#: is ten Fig. 3 sweeps (10^4 cells x 3e4 steps), about 12 s with the C kernel
+#: (4 ns per step per trajectory, benchmarks/bench_rk4.py) and five minutes on
+#: the NumPy fallback.
+MAX_STEPS = 3_000_000_000
 #: Seconds to wait for a Dask scheduler before giving up.
 CONNECT_TIMEOUT = 3.0
 #: Progress bars appear only after this many seconds.
@@ -312,6 +317,11 @@ def make_spec(system=None, grid=None, *, a_over_l=None, w0_over_w=None, theta_in
                      criterion, bool(linear), chunk)
     if spec.cells > MAX_CELLS:
         raise InputError(f"the sweep has {spec.cells} cells; at most {MAX_CELLS} are allowed")
+    work = spec.cells * periods * steps
+    if work > MAX_STEPS:
+        raise InputError(f"the sweep asks for {spec.cells} trajectories x {periods * steps} RK4 "
+                         f"steps = {work:.3g} steps; at most {MAX_STEPS:.0e} (about 12 s with "
+                         "the C kernel): fewer cells, periods or steps per period")
     return spec
 
 
