@@ -101,3 +101,18 @@ def test_bessel_product_writes_json_and_tables(tmp_path):
     assert doc["large_k"]["limit_margin_after"] == "6 - pi**2/2"
     for name in ("bessel_zeros.tex", "bessel_quarter_periods.tex", "bessel_identities.tex"):
         assert "\\begin{tabular}" in (d / name).read_text()
+
+
+def test_zeros_beyond_4300_digits_and_tiny_orders(capsys):
+    # found by an audit: str() of an int stops at 4300 digits, and float() of
+    # the exact phase coefficients overflowed for an order of 1e-20.
+    from pendulab.cli import main
+    assert main(["bessel", "zeros", "--order", "1", "--count", "1", "--dps", "4400", "--json"]) == 0
+    import json
+    zero = json.loads(capsys.readouterr().out)["zeros"][0]
+    # A&S Table 9.5: j_{1,1} = 3.8317059702
+    assert zero.startswith("3.8317059702") and len(zero.replace(".", "")) == 4400
+    assert main(["bessel", "zeros", "--order", "1e-20", "--count", "2", "--json"]) == 0
+    zeros = json.loads(capsys.readouterr().out)["zeros"]
+    # j_{nu,1} -> j_{0,1} = 2.4048255577 (A&S Table 9.5) as nu -> 0
+    assert zeros[0].startswith("2.4048255576957727686")

@@ -48,6 +48,7 @@ j_nu,1 < j_nu,2 < ... to ``dps`` significant digits, each digit proved:
 mpmath.besseljzero is used only in the tests, as a cross-check.
 """
 
+import gmpy2
 import math
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -149,7 +150,8 @@ def _round_sig(n, e2, digits):
 
 def _format(n, e, digits):
     sign = "-" if n < 0 else ""
-    s = str(abs(n)).rjust(digits, "0")
+    # gmpy2 prints integers of any length (str() of an int stops at 4300 digits)
+    s = gmpy2.mpz(abs(n)).digits(10).rjust(digits, "0")
     if 0 <= e < digits:
         body = s[:e + 1] + ("." + s[e + 1:] if e + 1 < digits else "")
     elif -5 <= e < 0:
@@ -487,7 +489,8 @@ def phase_index(nu, x):
     """
     if nu not in _PHASE_CACHE:
         mu = fmpq(4) * fmpq(nu.numerator, nu.denominator) ** 2
-        _PHASE_CACHE[nu] = [(j, float(poly_at(c, mu).p) / float(poly_at(c, mu).q))
+        # int / int is exact before rounding: p and q may be too long for float (nu ~ 1e-20)
+        _PHASE_CACHE[nu] = [(j, int(poly_at(c, mu).p) / int(poly_at(c, mu).q))
                             for j, c in enumerate(phase_coefficients()) if j % 2]
     xf = float(arb(x).mid())
     y = 1.0 / xf
