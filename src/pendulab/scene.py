@@ -114,8 +114,11 @@ def _check_values(data, problems):
 
 
 def _top(where):
-    """The key a later check reports for ``where``: up to the first list index."""
-    return where.split("[", 1)[0]
+    """The key a later check reports for ``where``: up to the first list index, and for
+    a table inside a product option (``products.motion.values.eps``) the option itself."""
+    head = where.split("[", 1)[0]
+    parts = head.split(".")
+    return ".".join(parts[:3]) if parts[0] == "products" and len(parts) > 3 else head
 
 
 

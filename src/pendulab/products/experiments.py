@@ -182,14 +182,8 @@ def document(results, options, scene_name, spec):
 # ---------------------------------------------------------------------------
 
 def _matplotlib():
-    try:
-        import matplotlib
-    except ImportError:
-        raise InputError("the experiment figures need matplotlib: pip install 'pendulab[figures]' "
-                         "(or set figures = false)") from None
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return matplotlib, plt
+    from pendulab.figures import pyplot
+    return pyplot("experiment")
 
 
 RC = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "savefig.dpi": 150,
@@ -198,14 +192,8 @@ RC = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "savefig.dpi": 
 
 def save(fig):
     """{".png": bytes, ".pdf": bytes} with no dates or software versions inside."""
-    import io
-    out = {}
-    for ext, meta in ((".png", {"Software": None}),
-                      (".pdf", {"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None})):
-        buf = io.BytesIO()
-        fig.savefig(buf, format=ext[1:], metadata=meta)
-        out[ext] = buf.getvalue()
-    return out
+    from pendulab.figures import save as save_bytes
+    return save_bytes(fig, dpi=RC["savefig.dpi"])
 
 
 def figure_map(m, limits, title):

@@ -197,19 +197,19 @@ def _periodic_part(fos, length, values, options, keep):
     lin = vm.integrate(fos, length, values, t_end, th0, linear=True, points=n)
     non = vm.integrate(fos, length, values, t_end, th0, linear=False, points=n)
     keep.update(lin=lin, non=non, verdict=fv)
-    periods = t_end / fv["period"]
-    mult = sorted(abs(complex(m)) for m in fv["multipliers"])
+    periods = t_end / fv.period
+    mult = sorted(abs(complex(m)) for m in fv.multipliers)
     return {
-        "period": _g(fv["period"], 10),
-        "verdict": fv["verdict"],
+        "period": _g(fv.period, 10),
+        "verdict": vm.verdict_word(fv),
         "multiplier_moduli": [_g(m, 8) for m in mult],
-        "trace": _g(fv["trace"], 8),
-        "det": _g(fv["det"], 8),
+        "trace": _g(fv.trace, 8),
+        "det": _g(fv.det, 8),
         "periods_integrated": _g(periods, 6),
-        "growth_linear": _g(vm.growth_factor(lin, fv["period"]), 4),
-        "growth_nonlinear": _g(vm.growth_factor(non, fv["period"]), 4),
-        "note": "monodromy matrix of 002 eq. 4 over one period (DOP853, private stand-in for the "
-                "numerics.monodromy verdict); growth: max |theta| over the last period / over the first",
+        "growth_linear": _g(vm.growth_factor(lin, fv.period), 4),
+        "growth_nonlinear": _g(vm.growth_factor(non, fv.period), 4),
+        "note": "monodromy matrix of 002 eq. 4 over one period (numerics.monodromy, DOP853); "
+                "growth: max |theta| over the last period / over the first",
     }
 
 
@@ -317,29 +317,16 @@ def _tex_length(text):
 # figures (deterministic bytes)
 # ---------------------------------------------------------------------------
 
-PNG_METADATA = {"Software": None}
-PDF_METADATA = {"CreationDate": None, "Producer": None}
-
-
 def _pyplot():
-    try:
-        import matplotlib
-    except ImportError:
-        raise InputError("the motion figures need matplotlib: pip install 'pendulab[figures]' "
-                         "(or set figures = false)") from None
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import matplotlib.ticker  # noqa: F401  (matplotlib.ticker.ScalarFormatter)
-    return matplotlib, plt
+    from pendulab.figures import pyplot
+    return pyplot("motion")
 
 
 def save_figure(fig):
     """(PNG bytes, PDF bytes) of ``fig`` with no date or software version inside."""
-    import io
-    png, pdf = io.BytesIO(), io.BytesIO()
-    fig.savefig(png, format="png", dpi=150, metadata=PNG_METADATA)
-    fig.savefig(pdf, format="pdf", metadata=PDF_METADATA)
-    return png.getvalue(), pdf.getvalue()
+    from pendulab.figures import save
+    out = save(fig, dpi=150)
+    return out[".png"], out[".pdf"]
 
 
 _RC = {"figure.figsize": (6.3, 4.2), "font.size": 9, "axes.titlesize": 9,
