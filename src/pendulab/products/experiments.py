@@ -104,11 +104,26 @@ def compute(spec, options):
     if options["dask"]:
         kw["dask"] = options["dask"]
     out = {"maps": {}, "limits": None}
+    mathieu = E.S._stages(spec)[1].kind == "mathieu"
+    if not mathieu:
+        # a Hill drive: the Floquet verdict is the monodromy matrix's; eq. 28, the exact limits
+        # of pendulab.analyses.stability and the series of Fig. 5 are Mathieu's equation's
+        wanted = [k for k in ("fig5", "fig2") if options[k]]
+        if wanted:
+            raise InputError(f"{' and '.join(wanted)}: the drive gives a Hill equation, and "
+                             f"{'they need' if len(wanted) > 1 else 'it needs'} Mathieu's "
+                             f"(theta0, theta1): set {' and '.join(k + ' = false' for k in wanted)}")
     for name in options["maps"]:
         out["maps"][name] = E.stability_maps(spec, options["grid"], E.INITIAL[name], options["periods"],
                                              options["steps_per_period"], tuple(options["criteria"]),
                                              prune=options["prune"], **kw)
-    if out["maps"]:
+    if out["maps"] and not mathieu:
+        w = next(iter(out["maps"].values()))["w0_over_w"]
+        if options["figures"]:
+            # no limit curves; the shaded region is the Floquet map on the map's own grid
+            out["fine"] = {"w0_over_w": w, "curves": {}, "region_values": w,
+                           "region": E.floquet_region(spec, w)}
+    elif out["maps"]:
         w = next(iter(out["maps"].values()))["w0_over_w"]
         out["limits"] = {"w0_over_w": w, "curves": E.limit_curves(spec, w)}
         if options["figures"]:
@@ -221,9 +236,10 @@ def figure_map(m, limits, title):
                 ax.contour(fw, fw, region, levels=[0.5], colors=["C0"], linestyles=["--"], linewidths=[1.0])
                 ii, jj = np.nonzero(m["maps"][c])
                 ax.plot(a[jj], w[ii], "o", mfc="none", mec="k", ms=ms, mew=0.4, ls="none")
-                lo, up = limits["curves"]["eq28"]
-                ax.plot(lo, limits["w0_over_w"], "-", color="C3", lw=1.0, label="eq. 28")
-                ax.plot(up, limits["w0_over_w"], "-", color="C3", lw=1.0)
+                if "eq28" in limits["curves"]:
+                    lo, up = limits["curves"]["eq28"]
+                    ax.plot(lo, limits["w0_over_w"], "-", color="C3", lw=1.0, label="eq. 28")
+                    ax.plot(up, limits["w0_over_w"], "-", color="C3", lw=1.0)
                 ax.add_line(Line2D([], [], ls="--", color="C0", lw=1.0, label="exact (Floquet)"))
                 ax.set_xlim(0, 1)
                 ax.set_ylim(0, 1)
@@ -303,7 +319,8 @@ def figures(results):
     for name, m in results["maps"].items():
         th, om = INITIAL[name]
         title = (rf"$\theta(0) = {th:g}$, $\dot\theta(0) = {om:g}$, {len(m['a_over_l'])}$^2$ pairs; "
-                 "shaded: Floquet-stable; solid: eq. 28; dashed: exact")
+                 + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if results["fine"]["curves"]
+                    else "shaded: Floquet-stable (monodromy); dashed: its edge"))
         for ext, data in figure_map(m, results["fine"], title).items():
             files[names[name] + ext] = data
     if "fig5" in results:
