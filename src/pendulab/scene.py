@@ -144,6 +144,10 @@ def _option_value(kind, value):
         if not isinstance(value, list):
             raise TypeError("must be a list")
         return value
+    if kind is dict:
+        if not isinstance(value, dict):
+            raise TypeError("must be a table")
+        return value
     if callable(kind):
         return kind(value)
     raise TypeError(f"unsupported option type {kind!r}")
@@ -289,13 +293,24 @@ def parse_scene(data, path="<scene>"):
             chosen[pname] = validate_options(module, given, where, problems)
     if built is not None and system == "variable-length" and "quarter_periods" in chosen:
         found = built.length_zero
-        if found is not None and found[1]:
+        from pendulab import symbols as _S
+        # L0 - r t (degree 1): the shortening string of 002, whose quarter periods end where
+        # L reaches 0 (pendulab.analyses.bessel_periods); any other zero of L is refused here
+        shortening = built.length.is_polynomial(_S.t) and sp_degree(built.length) == 1
+        if found is not None and found[1] and not shortening:
             from pendulab.systems import length_zero_note
             problems.add("products.quarter_periods",
                          "needs a string that stays longer than zero for all t >= 0, but "
                          + length_zero_note(built).split(":", 1)[0])
     problems.raise_if_any()
     return Scene(str(path), name, system, description, parsed, chosen, data, values)
+
+
+def sp_degree(expr):
+    """Degree of the polynomial ``expr`` in t (SymPy)."""
+    import sympy as sp
+    from pendulab import symbols as _S
+    return sp.Poly(expr, _S.t).degree()
 
 
 def _values(table, system, problems):

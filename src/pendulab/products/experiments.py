@@ -21,22 +21,24 @@ of sin(), which differs between the C library and NumPy.
 
 from pendulab.errors import InputError
 
+from pendulab.limits import option as _limited
+
+#: Type, default, range and help of the numbers and lists from pendulab.limits.LIMITS; the rest here.
 OPTIONS = {
-    "maps": (list, ["text", "caption", "fig4"],
-             "initial conditions of the maps: text (0.06, 0.01), caption (0.01, 0.06), fig4 (0.1, 0.1)"),
-    "grid": (int, 100, "points of a/l and of omega0/omega on linspace(0, 1, grid)"),
-    "periods": (int, 300, "drive periods per trajectory"),
-    "steps_per_period": (int, 100, "RK4 steps per drive period"),
-    "criteria": (list, ["mean", "mean-abs", "bounded", "floquet"], "criteria drawn and counted"),
+    "maps": _limited("experiments.maps"),
+    "grid": _limited("experiments.grid"),
+    "periods": _limited("experiments.periods"),
+    "steps_per_period": _limited("experiments.steps_per_period"),
+    "criteria": _limited("experiments.criteria"),
     "prune": (bool, False, "integrate only where the Floquet verdict may not hold"),
-    "first_experiment": (bool, True, "10 x 10 initial conditions x the parameter grid"),
-    "first_grid": (int, 10, "parameter grid of the first experiment (per axis)"),
+    "first_experiment": (bool, False, "10 x 10 initial conditions x the parameter grid"),
+    "first_grid": _limited("experiments.first_grid"),
     "first_convention": (str, "linspace", "linspace, right or left (see docs/experiments.md)"),
     "fig5": (bool, True, "Fig. 5: RK4 against the series solution"),
-    "fig5_orders": (list, [2, 8], "orders of the series solution in Fig. 5"),
-    "fig5_periods": (int, 40, "drive periods shown in Fig. 5"),
+    "fig5_orders": _limited("experiments.fig5_orders"),
+    "fig5_periods": _limited("experiments.fig5_periods"),
     "fig2": (bool, True, "Fig. 2: fast and slow motion"),
-    "fig2_periods": (int, 40, "drive periods shown in Fig. 2"),
+    "fig2_periods": _limited("experiments.fig2_periods"),
     "figures": (bool, True, "write the PNG and PDF figures (needs matplotlib)"),
     "backend": (str, "numpy", "integrator backend: numpy (reproducible bytes), c or auto"),
     "dask": (str, "", "address of a dask.distributed scheduler for the sweeps ('' = local)"),
@@ -81,11 +83,13 @@ def check_options(options):
     for c in options["criteria"]:
         if c not in CRITERIA:
             problems.append(f"criteria: {c!r} is not one of {', '.join(CRITERIA)}")
-    for key, lo, hi in (("grid", 1, 400), ("periods", 1, 10**5), ("steps_per_period", 1, 10**4),
-                        ("first_grid", 1, 100), ("fig5_periods", 1, 10**4), ("fig2_periods", 1, 10**4)):
-        v = options[key]
-        if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
-            problems.append(f"{key} must be a whole number in [{lo}, {hi}], got {v!r}")
+    from pendulab import limits
+    ranged = [k for k in OPTIONS if f"experiments.{k}" in limits.LIMITS]
+    for key in ranged:
+        try:
+            limits.check(f"experiments.{key}", options[key], label=key)
+        except InputError as exc:
+            problems.append(str(exc))
     if options["first_convention"] not in CONVENTIONS:
         problems.append(f"first_convention must be one of {', '.join(CONVENTIONS)}")
     for k in options["fig5_orders"]:
@@ -93,6 +97,10 @@ def check_options(options):
             problems.append(f"fig5_orders: {k!r} must be a whole number in [2, 40]")
     if options["backend"] not in ("numpy", "c", "auto"):
         problems.append(f"backend must be numpy, c or auto, got {options['backend']!r}")
+    if not problems:
+        work = limits.work_problem("experiments", options)
+        if work:
+            problems.append(work)
     if problems:
         raise InputError("; ".join(problems))
 
