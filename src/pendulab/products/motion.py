@@ -52,6 +52,9 @@ def _values_problems(value):
     return out
 
 
+#: largest k of z0 = j_2,k (pendulab.analyses.bessel_periods.quarter_periods: start <= 10000)
+MAX_START = 10_000 - 10
+
 #: largest |number| in the option ``values``
 VALUE_MAX = 1e6
 
@@ -115,16 +118,15 @@ def _closed_form_part(ctx, fos, length, values, options, keep):
 
     from pendulab.analyses import variable_length_motion as vm
     from pendulab.exprs import dump_expr
-    from pendulab.analyses.bessel_zeros import MAX_COUNT
     sol = ctx.get("closed_form")
     th0, t_end, n = options["theta_0"], options["t_end"], options["points"]
     if S.L0 in length.free_symbols:
         # the B = 0 case needs the certified zeros j_{2,1} .. j_{2,k} with k ~ z0/pi (McMahon)
         z0v = float(vm.substitute(sol.z_of_L.subs(S.Lvar, length.subs(S.t, 0)), values))
-        if z0v / math.pi + 8 > MAX_COUNT:
-            raise InputError(f"z0 = 2 sqrt(g L0)/|v0| = {z0v:.6g}: the z0 = j_2,k case needs about "
-                             f"{z0v / math.pi:.0f} certified zeros, at most {MAX_COUNT}: ask for a "
-                             "larger v0 or a smaller g L0")
+        if z0v / math.pi + 8 > MAX_START:
+            raise InputError(f"z0 = 2 sqrt(g L0)/|v0| = {z0v:.6g}: the z0 = j_2,k case needs k about "
+                             f"{z0v / math.pi:.0f}, at most {MAX_START} (the certified quarter "
+                             "periods' start): ask for a larger v0 or a smaller g L0")
     lin = vm.integrate(fos, length, values, t_end, th0, linear=True, points=n)
     non = vm.integrate(fos, length, values, t_end, th0, linear=False, points=n)
     ref = vm.closed_form_theta(sol, length, values, th0, lin.t)
