@@ -357,8 +357,8 @@ def b_zero_length(solution, length, values, k=None, *, dps=30):
     if len(roots) != 1:
         raise InputError(f"cannot solve z0 = {z0} for L0 uniquely (solutions: {roots})")
     with mpmath.workdps(dps + 10):
-        def zeros(n):  # j_{2,1} .. j_{2,n}, certified, dps + 5 digits
-            return [mpmath.mpf(x) for x in bessel_zeros(2, n, dps + 5).strings]
+        def zeros(n):  # j_{2,1} .. j_{2,n}, certified, at the working precision dps + 10
+            return [mpmath.mpf(x) for x in bessel_zeros(2, n, dps + 10).strings]
         if k is None:
             current = float(sp.lambdify((), substitute(z0, values), "mpmath")())
             # McMahon's leading term j_{2,k} ~ (k + 1/2 + 1/4) pi brackets the index; pick the nearest.
