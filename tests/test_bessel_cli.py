@@ -87,7 +87,7 @@ def test_rate_of_unknown_sign_is_refused(tmp_path, capsys):
 def test_bessel_product_options_checked(tmp_path, capsys):
     scene = _scene(tmp_path, "L0 + v0*t", "[products.bessel]\ndps = 0\nnmax = 50\n")
     code, out, err = _run(capsys, "build", str(scene), "--out", str(tmp_path / "o"))
-    assert code == 2 and "dps must be from 1 to 1000" in err and "nmax" in err
+    assert code == 2 and "dps: must be an integer from 1 to 1000" in err and "nmax" in err
     assert not (tmp_path / "o" / "vl").exists()
 
 

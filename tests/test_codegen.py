@@ -158,6 +158,20 @@ def test_generated_text_does_not_depend_on_the_hash_seed():
     assert out.stdout.strip() == h.hexdigest()
 
 
+@pytest.mark.parametrize("name", sorted(SYSTEMS))
+def test_scalar_function_is_the_lambdified_derivation(name, rng):
+    """The scalar rhs for solve_ivp (codegen.scalar_function) against the derivation itself."""
+    fos = system(name)
+    t, y, p = _points(fos, rng, 50)
+    for linear in (False, True):
+        f = codegen.scalar_function(fos, linear)
+        ref = fos.lambdified(linear=linear)(t, y, p)
+        got = np.array([f(float(t[i]), (float(y[0, i]), float(y[1, i])), tuple(map(float, p[:, i])))
+                        for i in range(t.size)]).T
+        assert np.max(np.abs(got - ref) / np.maximum(1.0, np.abs(ref))) < 1e-13
+    assert "numpy" not in codegen.scalar_text(fos)
+
+
 # -- the C kernel ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("name", sorted(SYSTEMS))

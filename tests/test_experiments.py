@@ -158,3 +158,41 @@ def test_fig5_reports_the_rk4_error_against_dop853():
     for key in ("rk4_error", "rk4_error_linear"):
         assert 0 < fine[key] < coarse[key]
         assert 10 < coarse[key] / fine[key] < 24
+
+
+HILL_SCENE = SCENE.replace('body = "{body}"', 'body = "point"\ndrive = "a*cos(omega*t) + a*cos(2*omega*t)"')
+
+
+@pytest.mark.filterwarnings("ignore::pendulab.errors.AccuracyWarning")  # cells on a/l = 0, w = 0
+def test_product_floquet_map_of_a_hill_drive(tmp_path):
+    """A Hill drive's Floquet map is the monodromy verdict cell by cell (numerics.monodromy
+    pointwise at each cell, DOP853; tests/test_sweep.py checks the map against the mpmath
+    Taylor route); no Mathieu limit curves are written for it."""
+    from pendulab.build import build
+    from pendulab.numerics.monodromy import floquet_verdict
+    (tmp_path / "s").mkdir()
+    (tmp_path / "s" / "exp.toml").write_text(
+        HILL_SCENE.replace('maps = ["text", "fig4"]', 'maps = ["text"]\ncriteria = ["bounded", "floquet"]')
+        + "fig5 = false\nfig2 = false\n")
+    build(tmp_path / "s", tmp_path / "g", force=True, log=lambda m: None)
+    doc = json.loads((tmp_path / "g" / "exp" / "experiments.json").read_text())
+    assert "limits" not in doc and (tmp_path / "g" / "exp" / "fig3-text.png").exists()
+    m = doc["maps"]["text"]
+    fos = S.first_order_system(S.SystemSpec("point", drive="a*cos(omega*t) + a*cos(2*omega*t)"))
+    for i, w in enumerate(m["w0_over_w"]):
+        for j, a in enumerate(m["a_over_l"]):
+            v = floquet_verdict(fos, {"a_over_l": a, "w0_over_w": w})
+            if abs(abs(v.trace) - 2) > 1e-9:
+                assert m["rows"]["floquet"][i][j] == ("1" if v.stable else "0"), (a, w)
+    assert "1" in "".join(m["rows"]["floquet"])
+
+
+def test_product_hill_drive_refuses_the_mathieu_figures(tmp_path, capsys):
+    from pendulab.cli import main
+    (tmp_path / "s").mkdir()
+    (tmp_path / "s" / "exp.toml").write_text(HILL_SCENE)
+    code = main(["build", str(tmp_path / "s"), "--out", str(tmp_path / "g")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert "products.experiments" in err[0] and "fig5 = false and fig2 = false" in err[0]
+    assert not (tmp_path / "g" / "exp").exists()

@@ -190,6 +190,8 @@ def test_length_zero_in_equations_note_and_quarter_periods_refused():
                             "parameters": {"length": "L0*(2 + cos(t))"},
                             "products": {"equations": {}}}, path="s.toml")
     assert "length_note" not in equations.document(Context(positive))
+    # (a linear L0 - r t is the shortening string, whose quarter periods end at L = 0:
+    # tests/test_bessel_cli.py; any other length that reaches zero is refused with the time)
     with pytest.raises(SceneError, match="quarter_periods.*t = 1"):
         parse_scene({"system": "variable-length", "parameters": {"length": "3 - 2*t - t**2"},
                      "products": {"quarter_periods": {}}}, path="s.toml")
@@ -276,3 +278,26 @@ def test_join_negative_values_keeps_flags():
     assert join_negative_values(["--theta0", "--json"], valued, every) == ["--theta0", "--json"]
     assert join_negative_values(["--theta0", "-h"], valued, every) == ["--theta0", "-h"]
     make_parser()  # builds with every command
+
+
+# -- the work of the newer products' options together (pendulab.limits.work_problem) ------------
+
+@pytest.mark.parametrize("system, product, options, fragment", [
+    ("kapitza", "experiments", {"grid": 100}, "cost model of pendulab.limits"),
+    ("kapitza", "experiments", {"first_experiment": True}, "cost model of pendulab.limits"),
+    ("variable-length", "bessel", {"zeros": 10000, "dps": 1000}, "digits in all"),
+    ("variable-length", "bessel", {"nmax": 20, "points": 400, "dps": 1000}, "identities"),
+    ("variable-length", "motion", {"t_end": 1e5}, "oscillations"),
+])
+def test_work_of_options_together_is_refused_at_validation(system, product, options, fragment):
+    with pytest.raises(SceneError) as info:
+        parse_scene({"system": system, "products": {product: options}}, path="s.toml")
+    msg = str(info.value)
+    assert f"products.{product}" in msg and fragment in msg and "\n" not in msg
+
+
+def test_the_full_size_experiments_are_accepted_with_the_c_kernel():
+    # docs/experiments.md: the source's 100 x 100 maps and first experiment with backend = "c"
+    scene = parse_scene({"system": "kapitza", "products": {"experiments": {
+        "grid": 100, "first_experiment": True, "backend": "c"}}}, path="s.toml")
+    assert scene.products["experiments"]["grid"] == 100

@@ -11,8 +11,10 @@ from pendulab.pipeline import PRODUCTS, product_module
 from pendulab.scene import parse_scene
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "scenes.md"
-TYPE_NAMES = {int: "integer", float: "number", list: "list", str: "string", bool: "boolean"}
-SYSTEM_OF = {"quarter_periods": "variable-length"}
+TYPE_NAMES = {int: "integer", float: "number", list: "list", str: "string", bool: "boolean",
+              dict: "table"}
+SYSTEM_OF = {"quarter_periods": "variable-length", "bessel": "variable-length",
+             "motion": "variable-length"}
 
 
 def _rows():

@@ -210,11 +210,46 @@ def test_floquet_map_against_eq28_and_exact_limits(system, ratio):
     assert 0 < inside_eq28 < int(f.sum()) and below_exact > 0
 
 
-def test_floquet_of_a_hill_drive_is_refused():
-    spec = S.make_spec(S.SystemSpec("rod", drive="a*cos(omega*t) + a*cos(2*omega*t)"), grid=3,
-                       criterion="floquet")
-    with pytest.raises(S.InputError, match="hill equation, not Mathieu's"):
-        S.sweep(spec)
+HILL = "a*cos(omega*t) + a*cos(2*omega*t)"
+
+
+def test_floquet_of_a_hill_drive_is_the_pointwise_monodromy_verdict():
+    """The sweep's Hill map (traces_along, DOP853, one integration per row) against
+    floquet_verdict cell by cell by the independent route: mpmath Taylor series, 12 digits."""
+    from pendulab.numerics.monodromy import floquet_verdict
+    system = S.SystemSpec("point", drive=HILL)
+    values = (0.0, 0.1, 0.3, 0.5)
+    spec = S.make_spec(system, a_over_l=values, w0_over_w=(0.05, 0.25, 0.5), criterion="floquet")
+    res = S.sweep(spec)
+    fos = S.first_order_system(system)
+    want = np.zeros((3, 4), dtype=bool)
+    for i, w in enumerate(spec.w0_over_w):
+        for j, a in enumerate(values):
+            v = floquet_verdict(fos, {"a_over_l": a, "w0_over_w": w}, method="mp", dps=12)
+            assert abs(abs(v.trace) - 2) > 1e-6, (a, w)   # no cell on a band edge
+            want[i, j] = v.stable
+    assert (res.stable[0] == want).all()
+    assert want.any() and not want.all()           # both verdicts occur
+    # a different drive from the source's: the Mathieu map of the same grid differs
+    mathieu = S.sweep(S.replace(spec, system=S.SystemSpec("point"))).stable[0]
+    assert (mathieu != want).any()
+
+
+def test_pruning_a_hill_drive_is_refused_in_one_line():
+    spec = S.make_spec(S.SystemSpec("rod", drive=HILL), grid=3, criterion="mean", periods=2)
+    with pytest.raises(S.InputError, match="hill equation, not Mathieu's") as info:
+        S.pruned_sweep(spec)
+    assert "\n" not in str(info.value)
+
+
+def test_cli_sweep_with_a_hill_drive(capsys):
+    assert main(["sweep", "--body", "point", "--drive", HILL, "--grid", "5", "--criterion",
+                 "floquet", "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    spec = S.make_spec(S.SystemSpec("point", drive=HILL), grid=5, criterion="floquet")
+    assert record["count"] == int(S.floquet_verdict(spec).sum())
+    assert main(["sweep", "--drive", "import os", "--criterion", "floquet"]) == 2
+    assert capsys.readouterr().err.startswith("pendulab: error: --drive:")
 
 
 # -- pruning: model only what the question needs -------------------------------------------

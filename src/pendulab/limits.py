@@ -68,6 +68,43 @@ LIMITS = {
                                 "I/(m l^2) (I = m l^2 + I0 with I0 >= 0)"),
     "stability.series_order": (int, 2, 40, None, "N of the method series:N"),
     "stability.integer_series_order": (int, 1, 40, None, "N of the method integer-series:N"),
+    # product "bessel" (the work of zeros, count, start and dps together: bessel_work below)
+    "bessel.zeros": (int, 1, 10000, 8, "how many zeros of J1 and of J2 to list"),
+    "bessel.count": (int, 1, 10000, 6,
+                     "how many quarter periods (growing: of each kind; shortening: in all)"),
+    "bessel.dps": (int, 1, 1000, 30, "significant digits of every number"),
+    "bessel.start": (int, 0, 10000, 0,
+                     "z0 = j_2,start (0: the source's 1 for a growing string, the smallest that "
+                     "fits count for a shortening one)"),
+    "bessel.nmax": (int, 0, 20, 2, "identities for n = 0..nmax"),
+    "bessel.points": (int, 2, 400, 40,
+                      "log-spaced z in [1e-30, 1e6] for the identities (plus 9 near zeros)"),
+    # product "motion" (SI units; the periods integrated are bounded by motion_periods below)
+    "motion.g": ("positive", 0, 1000, 9.81, "gravitational acceleration g (m/s^2)"),
+    "motion.L0": ("positive", 0, 1e6, 1.0, "the length's parameter L0 (m)"),
+    "motion.v0": ("positive", 0, 1e6, 0.01,
+                  "the rate v0 in L(t) (m/s); L0 - v0*t shortens the string"),
+    "motion.theta_0": (float, -3.14159, 3.14159, 0.05,
+                       "initial angle theta(0) (rad), not 0; theta'(0) = 0"),
+    "motion.t_end": ("positive", 0, 1e6, 100.0,
+                     "end of the integration (s), before L(t) reaches 0"),
+    "motion.points": (int, 11, 100001, 1001, "output times, equally spaced in [0, t_end]"),
+    # product "experiments" (the RK4 work of all maps together: experiments_seconds below)
+    "experiments.maps": (list, 0, 3, ["text", "caption", "fig4"],
+                         "initial conditions of the maps: text (0.06, 0.01), caption (0.01, 0.06), "
+                         "fig4 (0.1, 0.1)"),
+    "experiments.grid": (int, 1, 400, 10,
+                         "points of a/l and of omega0/omega on linspace(0, 1, grid)"),
+    "experiments.periods": (int, 1, 100000, 300, "drive periods per trajectory"),
+    "experiments.steps_per_period": (int, 1, 10000, 100, "RK4 steps per drive period"),
+    "experiments.criteria": (list, 1, 4, ["mean", "mean-abs", "bounded", "floquet"],
+                             "criteria drawn and counted (mean, mean-abs, bounded, floquet)"),
+    "experiments.first_grid": (int, 1, 100, 10,
+                               "parameter grid of the first experiment (per axis)"),
+    "experiments.fig5_orders": (list, 1, 8, [2, 8],
+                                "orders of the series solution in Fig. 5 (each 2 to 40)"),
+    "experiments.fig5_periods": (int, 1, 10000, 40, "drive periods shown in Fig. 5"),
+    "experiments.fig2_periods": (int, 1, 10000, 40, "drive periods shown in Fig. 2"),
 }
 
 
@@ -88,13 +125,16 @@ def describe(name):
         return f"{low} to {high} entries"
     if kind == "fraction":
         return f"above {low}, at most {high}"
+    if kind == "positive":
+        return f"above {low:g}, at most {high:g}"
     return f"{low:g} to {high:g}" if kind is float else f"{low} to {high}"
 
 
 def option(name):
     """The product OPTIONS entry ``(type, default, help)`` of ``name``, its range in the help."""
     kind, _low, _high, default, text = LIMITS[name]
-    return (str if kind == "fraction" else kind, default, f"{text} ({describe(name)})")
+    kind = {"fraction": str, "positive": float}.get(kind, kind)
+    return (kind, default, f"{text} ({describe(name)})")
 
 
 def check(name, value, label=None):
@@ -115,6 +155,12 @@ def check(name, value, label=None):
         if (isinstance(value, bool) or not isinstance(value, (int, float, Fraction))
                 or not value == value or not low <= value <= high):
             raise InputError(f"{label}must be a number from {low:g} to {high:g}, got {_show(value)}")
+        return value
+    if kind == "positive":
+        if (isinstance(value, bool) or not isinstance(value, (int, float, Fraction))
+                or not value == value or not low < value <= high):
+            raise InputError(f"{label}must be a number above {low:g} and at most {high:g}, "
+                             f"got {_show(value)}")
         return value
     if kind is list:
         if not isinstance(value, list):
@@ -209,8 +255,82 @@ def stability_seconds(points, methods):
 QUARTER_PERIOD_WORK = 1_000_000
 
 
-def work_problem(product, options, what="the points and ratios asked"):
+#: Most oscillations (t_end sqrt(g/L0) / (2 pi), or t_end / T of a periodic L(t)) the motion
+#: product integrates: three DOP853 runs at rtol 1e-13 of about 7 ms a period each (docs/scenes.md).
+MOTION_MAX_PERIODS = 2000
+
+#: Largest (zeros computed) x dps of the bessel product, as for quarter periods.
+BESSEL_ZERO_WORK = QUARTER_PERIOD_WORK
+#: Largest (nmax + 1) x (points + 9) x dps of the bessel product's identity checks (docs/scenes.md).
+BESSEL_IDENTITY_WORK = 4_000_000
+
+#: Seconds per RK4 step per trajectory of the experiments' sweeps: NumPy (the default backend,
+#: also the fallback of "auto" without a compiler) and the C kernel, fitted from above to
+#: docs/scenes.md ("Limits").
+RK4_SECONDS = {"numpy": 1.5e-6, "c": 30e-9}
+
+
+def experiments_seconds(options):
+    """Estimated seconds of the experiments product's trajectories (maps, first experiment, Figs. 5, 2)."""
+    per = RK4_SECONDS["c" if options.get("backend") == "c" else "numpy"]
+    steps = options["periods"] * options["steps_per_period"]
+    nonlinear = [c for c in options["criteria"] if c != "floquet"]
+    cells = 0
+    if nonlinear:
+        runs = len(nonlinear) if options.get("prune") else 1
+        cells += len(options["maps"]) * options["grid"] ** 2 * runs
+    if options.get("first_experiment"):
+        cells += 100 * options["first_grid"] ** 2
+    seconds = cells * steps * per
+    # Figs. 5 and 2: single trajectories (the DOP853 reference dominates: ~1 ms per period)
+    seconds += 1e-3 * ((options["fig5_periods"] if options.get("fig5") else 0)
+                       + (options["fig2_periods"] if options.get("fig2") else 0))
+    return seconds
+
+
+def work_problem(product, options, what="the points and ratios asked", drive_period=None):
     """A one-line problem when ``options`` of ``product`` would pass :data:`WORK_BUDGET_SECONDS`."""
+    import math
+    if product == "motion":
+        try:
+            periods = options["t_end"] * math.sqrt(options["g"] / options["L0"]) / (2 * math.pi)
+            if drive_period:
+                periods = max(periods, options["t_end"] / drive_period)
+        except (TypeError, ValueError, ZeroDivisionError, KeyError):
+            return None
+        if periods <= MOTION_MAX_PERIODS:
+            return None
+        return (f"t_end = {options['t_end']:g} s is about {periods:.0f} oscillations "
+                f"({'of L(t), ' if drive_period else ''}t_end sqrt(g/L0) / (2 pi)); at most "
+                f"{MOTION_MAX_PERIODS} (about a minute of DOP853 at rtol 1e-13): ask for a "
+                "shorter t_end")
+    if product == "bessel":
+        z, c, st, dps = (options.get(k) for k in ("zeros", "count", "start", "dps"))
+        if not all(isinstance(v, int) for v in (z, c, st, dps)):
+            return None
+        problems = []
+        need = max(z, c + max(st, 1) + 2)
+        if need * dps > BESSEL_ZERO_WORK:
+            problems.append(f"about {need} zeros at dps = {dps} (zeros, or count + start + 2) is "
+                            f"more than {BESSEL_ZERO_WORK} digits in all (about a minute): ask for "
+                            "fewer or shorter numbers")
+        n, pts = options.get("nmax"), options.get("points")
+        if isinstance(n, int) and isinstance(pts, int) and (n + 1) * (pts + 9) * dps > BESSEL_IDENTITY_WORK:
+            problems.append(f"the identities for n = 0..{n} at {pts} points and dps = {dps} are "
+                            f"(nmax + 1) (points + 9) dps = {(n + 1) * (pts + 9) * dps} > "
+                            f"{BESSEL_IDENTITY_WORK} (about a minute): ask for fewer points or digits")
+        return "; ".join(problems) or None
+    if product == "experiments":
+        try:
+            seconds = experiments_seconds(options)
+        except (TypeError, KeyError):
+            return None
+        if seconds <= WORK_BUDGET_SECONDS:
+            return None
+        return (f"these maps would take about {seconds:.0f} s of RK4 by the cost model of "
+                f"pendulab.limits (limit {WORK_BUDGET_SECONDS} s with backend "
+                f"{options.get('backend')!r}): ask for a smaller grid, fewer periods or steps, "
+                "fewer maps, prune = true or backend = \"c\"")
     if product == "stability":
         points, methods = options.get("points"), options.get("methods")
         if not isinstance(points, int) or not isinstance(methods, list):

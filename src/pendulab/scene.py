@@ -117,8 +117,11 @@ def _check_values(data, problems):
 
 
 def _top(where):
-    """The key a later check reports for ``where``: up to the first list index."""
-    return where.split("[", 1)[0]
+    """The key a later check reports for ``where``: up to the first list index, and for
+    a table inside a product option (``products.motion.values.eps``) the option itself."""
+    head = where.split("[", 1)[0]
+    parts = head.split(".")
+    return ".".join(parts[:3]) if parts[0] == "products" and len(parts) > 3 else head
 
 
 
@@ -143,6 +146,10 @@ def _option_value(kind, value):
     if kind is list:
         if not isinstance(value, list):
             raise TypeError("must be a list")
+        return value
+    if kind is dict:
+        if not isinstance(value, dict):
+            raise TypeError("must be a table")
         return value
     if callable(kind):
         return kind(value)

@@ -1,6 +1,6 @@
 """pendulab sweep [--body rod|point | --inertia-ratio R] --theta-init X --omega-init Y --grid N
-   --periods P --steps-per-period S --criterion mean|mean-abs|bounded|floquet [--json] [--quiet]
-   [--dask ADDRESS]"""
+   --periods P --steps-per-period S --criterion mean|mean-abs|bounded|floquet [--drive EXPR]
+   [--json] [--quiet] [--dask ADDRESS]"""
 
 import argparse
 import re
@@ -76,6 +76,10 @@ def add_parser(sub):
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     accept_negative_numbers(p)
     body_options(p)
+    p.add_argument("--drive", metavar="EXPR",
+                   help="pivot displacement y0(t), periodic in t (e.g. 'a*cos(omega*t) + "
+                        "a*cos(2*omega*t)'; default: the source's a*cos(omega*t)); a non-Mathieu "
+                        "drive takes the floquet verdict from the monodromy matrix")
     p.add_argument("--theta-init", default="0.06", metavar="X", help="theta(0) in rad")
     p.add_argument("--omega-init", default="0.01", metavar="Y", help="dtheta/dtau at tau = 0")
     p.add_argument("--grid", default="10", metavar="N", help="N values of a/l and of omega0/omega")
@@ -112,6 +116,15 @@ def run(args):
             problems.append(str(exc))
 
     system = system_spec(args, problems)
+    if getattr(args, "drive", None) is not None and system is not None:
+        from dataclasses import replace
+
+        from pendulab.exprs import parse
+        try:
+            parse(args.drive)
+            system = replace(system, drive=args.drive)
+        except InputError as exc:
+            problems.append(f"--drive: {exc}")
     th = collect(number, args.theta_init, "--theta-init")
     om = collect(number, args.omega_init, "--omega-init")
     grid = collect(whole, args.grid, "--grid", 1)

@@ -23,7 +23,9 @@ with ``steps_per_period`` fixed RK4 steps each (no early exit):
 * ``floquet``  - the exact linear verdict: the inverted position is stable
   for Mathieu's equation with (theta0, theta1) of the canonical stage
   (:func:`pendulab.numerics.model.mathieu_parameters`, lambdified;
-  :func:`pendulab.analyses.floquet.is_stable`).  No trajectory is integrated.
+  :func:`pendulab.analyses.floquet.is_stable`); for any other periodic drive
+  (Hill's equation) |tr M| < 2 of the monodromy matrix
+  (:func:`pendulab.numerics.monodromy.traces_along`).  No trajectory is integrated.
 
 Chunks and executors.  The cells are cut into chunks of ``chunk_size``
 consecutive cells (a function of the sweep only, never of the executor).
@@ -172,8 +174,9 @@ def mathieu_pair(spec):
 
     eqs, form = _stages(spec)
     if form.kind != "mathieu":
-        raise InputError(f"criterion floquet: the drive gives a {form.kind} equation, not Mathieu's; "
-                         "the Floquet verdict for any periodic drive is not available here yet")
+        raise InputError(f"the drive gives a {form.kind} equation, not Mathieu's: no (theta0, theta1) "
+                         "pair (the floquet criterion uses the monodromy matrix; pruning and the "
+                         "series comparison need Mathieu's equation)")
     pair = mathieu_parameters(eqs, form)
     if spec.inertia_ratio is not None:
         pair = tuple(v.subs(S.inertia_ratio, sp.nsimplify(spec.inertia_ratio)) for v in pair)
@@ -437,25 +440,63 @@ def verdict(criterion, stats):
 
 
 def floquet_verdict(spec, index=None):
-    """The exact linear verdict (bool array over the cells ``index``, default all)."""
+    """The exact linear verdict (bool array over the cells ``index``, default all).
+
+    Mathieu's equation (canonical kind "mathieu"): :func:`pendulab.analyses.floquet.is_stable`
+    of (theta0, theta1) from :func:`mathieu_pair`.  Any other periodic drive
+    (Hill's equation): |tr M| < 2 for the monodromy matrix M of the linear
+    first-order system over one period (:func:`pendulab.numerics.monodromy.traces_along`,
+    DOP853 at rtol 1e-13, one integration per omega0/omega row along a/l);
+    det M = 1 since the linear system has zero trace.
+    """
     import numpy as np
     import warnings
 
     from pendulab.analyses.floquet import is_stable
     from pendulab.errors import AccuracyWarning
 
-    pair = mathieu_pair(spec.system)
     n_c, n_w, n_a = spec.shape
     if index is None:
         index = np.arange(spec.cells)
     rest = np.asarray(index) % (n_w * n_a)
     i, j = np.divmod(rest, n_a)
+    _eqs, form = _stages(spec.system)
+    if form.kind != "mathieu":
+        return _monodromy_map(spec)[i, j]
+    pair = mathieu_pair(spec.system)
     t0, t1 = pair(np.asarray(spec.a_over_l)[j], np.asarray(spec.w0_over_w)[i])
     with warnings.catch_warnings():
         # on the source's grids some cells sit exactly on a curve (a/l = 0, omega0/omega = 0);
         # their verdict is that of is_stable's count, reported as such
         warnings.simplefilter("ignore", AccuracyWarning)
         return is_stable(t0, t1)
+
+
+_MONODROMY_MAPS = {}
+
+
+def _monodromy_map(spec):
+    """Bool (n_w, n_a): |tr M| < 2 on the grid of ``spec`` for a periodic non-Mathieu drive."""
+    import numpy as np
+
+    from pendulab.numerics.monodromy import traces_along
+
+    key = (spec.system, spec.a_over_l, spec.w0_over_w)
+    if key not in _MONODROMY_MAPS:
+        _eqs, form = _stages(spec.system)
+        fos = first_order_system(spec.system)
+        if fos.period is None:
+            raise InputError(f"criterion floquet: the drive gives a {form.kind} equation, which is "
+                             "not periodic: there is no Floquet verdict")
+        names = _param_columns(spec.system, fos)
+        fixed = {"inertia_ratio": spec.system.inertia_ratio} if "inertia_ratio" in names else {}
+        rows = []
+        for w in spec.w0_over_w:
+            tr = traces_along(fos, dict(fixed, w0_over_w=w), "a_over_l", spec.a_over_l)
+            rows.append(np.abs(tr) < 2)
+        _MONODROMY_MAPS[key] = np.array(rows, dtype=bool).reshape(len(spec.w0_over_w),
+                                                                 len(spec.a_over_l))
+    return _MONODROMY_MAPS[key]
 
 
 # ---------------------------------------------------------------------------

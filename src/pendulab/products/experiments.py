@@ -21,22 +21,24 @@ of sin(), which differs between the C library and NumPy.
 
 from pendulab.errors import InputError
 
+from pendulab.limits import option as _limited
+
+#: Type, default, range and help of the numbers and lists from pendulab.limits.LIMITS; the rest here.
 OPTIONS = {
-    "maps": (list, ["text", "caption", "fig4"],
-             "initial conditions of the maps: text (0.06, 0.01), caption (0.01, 0.06), fig4 (0.1, 0.1)"),
-    "grid": (int, 100, "points of a/l and of omega0/omega on linspace(0, 1, grid)"),
-    "periods": (int, 300, "drive periods per trajectory"),
-    "steps_per_period": (int, 100, "RK4 steps per drive period"),
-    "criteria": (list, ["mean", "mean-abs", "bounded", "floquet"], "criteria drawn and counted"),
+    "maps": _limited("experiments.maps"),
+    "grid": _limited("experiments.grid"),
+    "periods": _limited("experiments.periods"),
+    "steps_per_period": _limited("experiments.steps_per_period"),
+    "criteria": _limited("experiments.criteria"),
     "prune": (bool, False, "integrate only where the Floquet verdict may not hold"),
-    "first_experiment": (bool, True, "10 x 10 initial conditions x the parameter grid"),
-    "first_grid": (int, 10, "parameter grid of the first experiment (per axis)"),
+    "first_experiment": (bool, False, "10 x 10 initial conditions x the parameter grid"),
+    "first_grid": _limited("experiments.first_grid"),
     "first_convention": (str, "linspace", "linspace, right or left (see docs/experiments.md)"),
     "fig5": (bool, True, "Fig. 5: RK4 against the series solution"),
-    "fig5_orders": (list, [2, 8], "orders of the series solution in Fig. 5"),
-    "fig5_periods": (int, 40, "drive periods shown in Fig. 5"),
+    "fig5_orders": _limited("experiments.fig5_orders"),
+    "fig5_periods": _limited("experiments.fig5_periods"),
     "fig2": (bool, True, "Fig. 2: fast and slow motion"),
-    "fig2_periods": (int, 40, "drive periods shown in Fig. 2"),
+    "fig2_periods": _limited("experiments.fig2_periods"),
     "figures": (bool, True, "write the PNG and PDF figures (needs matplotlib)"),
     "backend": (str, "numpy", "integrator backend: numpy (reproducible bytes), c or auto"),
     "dask": (str, "", "address of a dask.distributed scheduler for the sweeps ('' = local)"),
@@ -81,11 +83,13 @@ def check_options(options):
     for c in options["criteria"]:
         if c not in CRITERIA:
             problems.append(f"criteria: {c!r} is not one of {', '.join(CRITERIA)}")
-    for key, lo, hi in (("grid", 1, 400), ("periods", 1, 10**5), ("steps_per_period", 1, 10**4),
-                        ("first_grid", 1, 100), ("fig5_periods", 1, 10**4), ("fig2_periods", 1, 10**4)):
-        v = options[key]
-        if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
-            problems.append(f"{key} must be a whole number in [{lo}, {hi}], got {v!r}")
+    from pendulab import limits
+    ranged = [k for k in OPTIONS if f"experiments.{k}" in limits.LIMITS]
+    for key in ranged:
+        try:
+            limits.check(f"experiments.{key}", options[key], label=key)
+        except InputError as exc:
+            problems.append(str(exc))
     if options["first_convention"] not in CONVENTIONS:
         problems.append(f"first_convention must be one of {', '.join(CONVENTIONS)}")
     for k in options["fig5_orders"]:
@@ -93,6 +97,10 @@ def check_options(options):
             problems.append(f"fig5_orders: {k!r} must be a whole number in [2, 40]")
     if options["backend"] not in ("numpy", "c", "auto"):
         problems.append(f"backend must be numpy, c or auto, got {options['backend']!r}")
+    if not problems:
+        work = limits.work_problem("experiments", options)
+        if work:
+            problems.append(work)
     if problems:
         raise InputError("; ".join(problems))
 
@@ -104,11 +112,26 @@ def compute(spec, options):
     if options["dask"]:
         kw["dask"] = options["dask"]
     out = {"maps": {}, "limits": None}
+    mathieu = E.S._stages(spec)[1].kind == "mathieu"
+    if not mathieu:
+        # a Hill drive: the Floquet verdict is the monodromy matrix's; eq. 28, the exact limits
+        # of pendulab.analyses.stability and the series of Fig. 5 are Mathieu's equation's
+        wanted = [k for k in ("fig5", "fig2") if options[k]]
+        if wanted:
+            raise InputError(f"{' and '.join(wanted)}: the drive gives a Hill equation, and "
+                             f"{'they need' if len(wanted) > 1 else 'it needs'} Mathieu's "
+                             f"(theta0, theta1): set {' and '.join(k + ' = false' for k in wanted)}")
     for name in options["maps"]:
         out["maps"][name] = E.stability_maps(spec, options["grid"], E.INITIAL[name], options["periods"],
                                              options["steps_per_period"], tuple(options["criteria"]),
                                              prune=options["prune"], **kw)
-    if out["maps"]:
+    if out["maps"] and not mathieu:
+        w = next(iter(out["maps"].values()))["w0_over_w"]
+        if options["figures"]:
+            # no limit curves; the shaded region is the Floquet map on the map's own grid
+            out["fine"] = {"w0_over_w": w, "curves": {}, "region_values": w,
+                           "region": E.floquet_region(spec, w)}
+    elif out["maps"]:
         w = next(iter(out["maps"].values()))["w0_over_w"]
         out["limits"] = {"w0_over_w": w, "curves": E.limit_curves(spec, w)}
         if options["figures"]:
@@ -185,14 +208,8 @@ def document(results, options, scene_name, spec):
 # ---------------------------------------------------------------------------
 
 def _matplotlib():
-    try:
-        import matplotlib
-    except ImportError:
-        raise InputError("the experiment figures need matplotlib: pip install 'pendulab[figures]' "
-                         "(or set figures = false)") from None
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return matplotlib, plt
+    from pendulab.figures import pyplot
+    return pyplot("experiment")
 
 
 RC = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "savefig.dpi": 150,
@@ -201,14 +218,8 @@ RC = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "savefig.dpi": 
 
 def save(fig):
     """{".png": bytes, ".pdf": bytes} with no dates or software versions inside."""
-    import io
-    out = {}
-    for ext, meta in ((".png", {"Software": None}),
-                      (".pdf", {"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None})):
-        buf = io.BytesIO()
-        fig.savefig(buf, format=ext[1:], metadata=meta)
-        out[ext] = buf.getvalue()
-    return out
+    from pendulab.figures import save as save_bytes
+    return save_bytes(fig, dpi=RC["savefig.dpi"])
 
 
 def figure_map(m, limits, title):
@@ -236,9 +247,10 @@ def figure_map(m, limits, title):
                 ax.contour(fw, fw, region, levels=[0.5], colors=["C0"], linestyles=["--"], linewidths=[1.0])
                 ii, jj = np.nonzero(m["maps"][c])
                 ax.plot(a[jj], w[ii], "o", mfc="none", mec="k", ms=ms, mew=0.4, ls="none")
-                lo, up = limits["curves"]["eq28"]
-                ax.plot(lo, limits["w0_over_w"], "-", color="C3", lw=1.0, label="eq. 28")
-                ax.plot(up, limits["w0_over_w"], "-", color="C3", lw=1.0)
+                if "eq28" in limits["curves"]:
+                    lo, up = limits["curves"]["eq28"]
+                    ax.plot(lo, limits["w0_over_w"], "-", color="C3", lw=1.0, label="eq. 28")
+                    ax.plot(up, limits["w0_over_w"], "-", color="C3", lw=1.0)
                 ax.add_line(Line2D([], [], ls="--", color="C0", lw=1.0, label="exact (Floquet)"))
                 ax.set_xlim(0, 1)
                 ax.set_ylim(0, 1)
@@ -318,7 +330,8 @@ def figures(results):
     for name, m in results["maps"].items():
         th, om = INITIAL[name]
         title = (rf"$\theta(0) = {th:g}$, $\dot\theta(0) = {om:g}$, {len(m['a_over_l'])}$^2$ pairs; "
-                 "shaded: Floquet-stable; solid: eq. 28; dashed: exact")
+                 + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if results["fine"]["curves"]
+                    else "shaded: Floquet-stable (monodromy); dashed: its edge"))
         for ext, data in figure_map(m, results["fine"], title).items():
             files[names[name] + ext] = data
     if "fig5" in results:
