@@ -29,6 +29,23 @@ def test_identities_hold_to_the_precision_asked(dps):
             assert abs(rep.limit_D[engine] - 2 / mpmath.pi) < mpmath.mpf(10) ** (-dps)
 
 
+def test_derivative_balls_are_certified_next_to_zeros():
+    """Where J_0' = -J_1 nearly vanishes (the doubles next to j_1,k) the Taylor step must shrink
+    until its remainder is negligible; the balls must hold mpmath's derivative at 30 more digits
+    (a different method: its differentiated hypergeometric series) and be 10^-30 narrow."""
+    zs = bi.default_grid(2)[1:-1]  # the nine doubles next to j_n,k, n = 0, 1, 2, k <= 3
+    rep = bi.check_identities(2, 30, zs)
+    assert rep.arb_certified and rep.worst[0] < mpmath.mpf(10) ** -30
+    for z in zs:
+        J, Y, dJ, dY = bi._arb_values(2, z, bi.bits_for(30))
+        with mpmath.workdps(60):
+            for n in range(2):
+                for ball, ref in ((dJ[n], mpmath.besselj(n, z, derivative=1)),
+                                  (dY[n], mpmath.bessely(n, z, derivative=1))):
+                    mid, rad = bi._to_mpf(ball.mid()), bi._to_mpf(ball.rad())
+                    assert abs(mid - ref) <= rad and rad <= abs(ref) * mpmath.mpf(10) ** -30, (z, n)
+
+
 def test_cross_product_alone():
     rep = bi.check_identities(20, 50, [1e-30, 0.5, 19.79, 1e6], rules=("cross",))
     assert set(rep.by_rule) == {("arb", "cross"), ("mpmath", "cross")}

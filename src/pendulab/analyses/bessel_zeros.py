@@ -283,6 +283,7 @@ def interval_newton(nu, mid, radius, bits):
 # -- starts -------------------------------------------------------------------------------------
 
 _COEFF_CACHE = {}
+_COEFF_BALLS = {}
 
 
 def _mcmahon_values(nu):
@@ -301,8 +302,11 @@ def mcmahon_start(nu, k, bits):
     Terms are added while they decrease; the estimate is -log2 of the last
     term used relative to x (0 when the first correction is not small).
     """
-    coeffs = _mcmahon_values(nu)
+    key = (nu.numerator, nu.denominator, bits)
     with _Prec(bits):
+        if key not in _COEFF_BALLS:  # the rationals as balls at this precision, made once
+            _COEFF_BALLS[key] = [arb(c) for c in _mcmahon_values(nu)]
+        coeffs = _COEFF_BALLS[key]
         beta = (arb(k) + _order_ball(nu) / 2 - arb(1) / 4) * arb.pi()
         x = beta
         inv2 = 1 / (beta * beta)
@@ -310,7 +314,7 @@ def mcmahon_start(nu, k, bits):
         last = None
         enough = abs(beta).abs_upper() * arb(2) ** (-bits)
         for c in coeffs:
-            term = arb(c) * power
+            term = c * power
             size = abs(term).abs_upper()
             if last is not None and size >= last:
                 break
