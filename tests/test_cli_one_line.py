@@ -39,3 +39,14 @@ def test_hours_of_work_are_refused_at_once(argv, what, capsys):
     out = capsys.readouterr()
     assert out.out == ""
     assert out.err.count("\n") == 1 and what in out.err
+
+
+@pytest.mark.parametrize("argv", [
+    ["simulate", "--a-over-l", "1e300", "--w0-over-w", "0.05", "--json"],
+    ["sweep", "--theta-init", "1e308", "--grid", "2", "--json"],
+])
+def test_absurd_sizes_are_refused_not_integrated(argv, capsys):
+    # found by an audit: these integrated to overflow and exited 0
+    assert main(argv) == 2
+    out = capsys.readouterr()
+    assert out.out == "" and out.err.count("\n") == 1 and "at most" in out.err

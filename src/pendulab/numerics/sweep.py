@@ -65,6 +65,8 @@ MAX_CELLS = 4_000_000
 #: (4 ns per step per trajectory, benchmarks/bench_rk4.py) and five minutes on
 #: the NumPy fallback.
 MAX_STEPS = 3_000_000_000
+#: Largest |a/l|, |omega0/omega|, |theta(0)|, |dtheta/dtau(0)| a sweep or a simulation takes.
+MAX_MAGNITUDE = 1e4
 #: Seconds to wait for a Dask scheduler before giving up.
 CONNECT_TIMEOUT = 3.0
 #: Progress bars appear only after this many seconds.
@@ -203,6 +205,9 @@ def _finite(value, name):
         raise InputError(f"{name} must be a number, got {value!r}") from None
     if not math.isfinite(v):
         raise InputError(f"{name} must be a finite number, got {value!r}")
+    if abs(v) > MAX_MAGNITUDE:
+        # beyond it RK4 at the source's 100 steps per period only measures its own overflow
+        raise InputError(f"{name} must be at most {MAX_MAGNITUDE:g} in size, got {value!r}")
     return v
 
 
