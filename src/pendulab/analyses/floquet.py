@@ -1102,30 +1102,14 @@ def map_limits(pmap, point, dps=None, what="the limits"):
     dps = _check_dps(dps)
     exact = {k: (v if isinstance(v, (Fraction, mpmath.mpf)) else _exact(v, k))
              for k, v in point.items()}
-    want = DOUBLE_DPS if dps is None else dps
-    w = want + GUARD
-    while True:
-        res = []
-        for ww in (w, w + 10):
-            with mpmath.workdps(ww):
-                args = {k: _mp(v) for k, v in exact.items()}
-                th0 = pmap.evaluate("theta0", args, "mpmath")
-                scale = abs(pmap.evaluate("scale", args, "mpmath"))
-                lo, up = _first_band_mp(th0, ww)
-                res.append((lo * scale, up * scale))
-        with mpmath.workdps(w + 10):
-            ok = all(abs(a - b) <= mpmath.mpf(10) ** (-(want + 2)) * max(1, abs(b))
-                     for a, b in zip(res[0], res[1]))
-        if ok:
-            break
-        if w > 4 * want + 100:
-            raise PrecisionError(f"{what} not resolved to {want} digits")
-        w *= 2
-    lower, upper = res[1]
-    if dps is None:
-        return float(lower), float(upper)
-    with mpmath.workdps(want):
-        return +lower, +upper
+
+    def band(ww):
+        args = {k: _mp(v) for k, v in exact.items()}
+        th0 = pmap.evaluate("theta0", args, "mpmath")
+        scale = abs(pmap.evaluate("scale", args, "mpmath"))
+        lo, up = _first_band_mp(th0, ww)
+        return lo * scale, up * scale
+    return _band_at_two_precisions(band, dps, what)
 
 
 def first_band(theta0, dps=None):
@@ -1149,20 +1133,30 @@ def first_band(theta0, dps=None):
                          "is not the one that starts at theta1 = 0")
     if abs(X0) > SIZE_LIMIT:
         raise InputError(f"|theta0| = {_size_text(X0)} is too large (limit {SIZE_LIMIT:g})")
+    return _band_at_two_precisions(lambda ww: _first_band_mp(_mp(X0), ww), dps,
+                                   f"first_band({theta0})")
+
+
+def _band_at_two_precisions(band, dps, what):
+    """``band(ww)`` (a pair, computed at working precision ww) resolved to ``dps`` digits.
+
+    Computed at w and w + 10 digits (w = dps + GUARD, doubled until both agree
+    to dps + 2 digits); a float pair when ``dps`` is None.
+    """
     want = DOUBLE_DPS if dps is None else dps
     w = want + GUARD
     while True:
         res = []
         for ww in (w, w + 10):
             with mpmath.workdps(ww):
-                res.append(_first_band_mp(_mp(X0), ww))
+                res.append(band(ww))
         with mpmath.workdps(w + 10):
             ok = all(abs(a - b) <= mpmath.mpf(10) ** (-(want + 2)) * max(1, abs(b))
                      for a, b in zip(res[0], res[1]))
         if ok:
             break
         if w > 4 * want + 100:
-            raise PrecisionError(f"first_band({theta0}) not resolved to {want} digits")
+            raise PrecisionError(f"{what} not resolved to {want} digits")
         w *= 2
     lower, upper = res[1]
     if dps is None:
