@@ -1,0 +1,471 @@
+"""Method "arb": the characteristic exponent of 000 eq. 7 proved in ball arithmetic.
+
+theta'' + (theta0 + 2 theta1 cos 2tau) theta = 0 (000 eq. 7) with the
+recurrence theta1 b_{m-2} + C_m b_m + theta1 b_{m+2} = 0,
+C_m = theta0 - (m + t)^2, m = 2n + e, t = lam - e (000 eqs. 8-10).
+
+1. **Band** (:func:`band_count`): the number of characteristic values a_n, b_n
+   below theta0 by the LDL^T pivots of the four infinite matrices of DLMF
+   28.4.5-28.4.8, every pivot sign decided on balls (undecided: more
+   precision).  The pivots are continued only until row n where
+   d_{n+1} - theta0 >= 2|q| and p_n >= |q|: then every later pivot is >= |q|
+   (p_i >= 2|q| - q^2/|q|), so the count of the first n rows is the count of
+   the infinite matrix (each truncation past n has it, and the k-th eigenvalue
+   of the truncations decreases to the k-th of the operator, Cauchy
+   interlacing / min-max).  Odd count 2k+1: band k; even count 2k: gap k.
+2. **Characteristic function** f_e(u) of u = t^2 (:func:`cf_kernel`): the
+   block |m| <= M of the recurrence closed by T continued-fraction levels of
+   the minimal solution on each side (the "cf" route, module ``_cf``),
+   evaluated in the algebra a + b t with t^2 = u, i.e. in real arithmetic for
+   either sign of u.  One kernel serves Python floats (the guess), and arb
+   balls (Newton and the proof), with d/du carried alongside (forward mode).
+3. **Guess** in plain floats: a safeguarded Newton iteration on the bracket of
+   the "cf" route ((0, 1/4] next to edge k or k+1 inside band k; [-U, 0] in
+   gap k).
+4. **Newton** in arb at doubling precision from the guess.
+5. **Proof**: f_e is evaluated on balls at u_lo < u_hi around the Newton
+   root with the neglected tails enclosed: if |C_j| >= 2|theta1| for every
+   j beyond the last level kept, every tail ratio b_{j+2}/b_j of the minimal
+   solution lies in the closed unit disk (if |r_{j+2}| <= 1 then
+   |C_j + theta1 r_{j+2}| >= |theta1|; the continued fraction converges by
+   Sleszynski-Pringsheim and its value is the minimal ratio, Pincherle), and
+   the disk is carried through the levels kept.  Strictly opposite signs at
+   the two ends prove a root in [u_lo, u_hi]; it is the only one in
+   (-inf, 1) because (-1)^e cos(pi sqrt(u)) is strictly monotone there and
+   f_e(u) = 0 exactly when cos(pi (e + sqrt u)) = cos(pi lam).  The band
+   count then fixes lam = k + sqrt(u) (e = k), k + 1 - sqrt(u) (e = k + 1) or
+   k + i sqrt(-u) (gap), a ball.
+6. **Digits**: the ball of lam is printed to ``dps`` digits only when both ends
+   round to the same decimal (:func:`pendulab.analyses.bessel_zeros.ball_digits`);
+   otherwise the precision grows (:mod:`._precision`).
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import mpmath
+from flint import arb, ctx, fmpq, fmpz
+
+from pendulab.analyses.bessel_zeros import ball_digits
+from pendulab.analyses.floquet._bands import FAMILIES, _edge_index, _tail_steps
+
+
+class _Prec:
+    """python-flint's working precision in bits, restored afterwards."""
+
+    def __init__(self, bits):
+        self.bits = bits
+
+    def __enter__(self):
+        self.saved = ctx.prec
+        ctx.prec = self.bits
+
+    def __exit__(self, *exc):
+        ctx.prec = self.saved
+
+
+def bits_of(digits):
+    return int(math.ceil(digits * 3.3219280948873623)) + 8
+
+
+def to_ball(v):
+    """An exact input (Fraction or mpf) as an arb ball at the current precision (exact
+    when representable, else a ball that contains it)."""
+    if isinstance(v, Fraction):
+        if v.denominator == 1:
+            return arb(fmpz(v.numerator))
+        return arb(fmpq(v.numerator, v.denominator))
+    sign, man, exp, _ = v._mpf_
+    b = arb(fmpz(int(man))) * arb(2) ** int(exp)
+    return -b if sign else b
+
+
+# ---------------------------------------------------------------------------
+# 1. band count on balls
+# ---------------------------------------------------------------------------
+
+def _diag(family, i, q):
+    if family == "a_even":
+        return (2 * i) ** 2
+    if family == "b_even":
+        return (2 * i + 2) ** 2
+    d = (2 * i + 1) ** 2
+    if i == 0:
+        return d + q if family == "a_odd" else d - q
+    return d
+
+
+_INF, _ZERO = object(), object()
+
+
+def family_count(family, q, x):
+    """Certified number of eigenvalues < x of the infinite DLMF 28.4 matrix of ``family``
+    at q (balls), or None when a pivot sign is undecided at this precision.
+
+    A pivot that is exactly 0 (x exactly a diagonal entry, exact inputs) is read
+    as the limit x - 0: that pivot +0, the next one -inf, the one after
+    d - x; the count of eigenvalues below x - eps equals the one below x for
+    every small eps > 0."""
+    aq = abs(q)
+    q2 = q * q
+    count = 0
+    p = None          # previous pivot; "inf" after an exact zero
+    i = 0
+    while True:
+        d = _diag(family, i, q)
+        if i == 0 or p is _INF:
+            p = d - x
+        elif p is _ZERO:
+            p = _INF       # -infinity: negative
+            count += 1
+            i += 1
+            continue
+        else:
+            e2 = 2 * q2 if (family == "a_even" and i == 1) else q2
+            p = d - x - e2 / p
+        if p.is_zero():
+            p = _ZERO
+            i += 1
+            continue
+        if p < 0:
+            count += 1
+        elif not p > 0:
+            return None
+        if i >= 1 and p > aq and _diag(family, i + 1, 0) - x > 2 * aq:
+            return count
+        i += 1
+        if i > 10 ** 6:  # pragma: no cover - unreachable for finite input
+            return None
+
+
+def band_count(x0, x1):
+    """Number of characteristic values below theta0 (balls x0, x1), or None if undecided."""
+    q = -x1
+    total = 0
+    for fam in FAMILIES:
+        c = family_count(fam, q, x0)
+        if c is None:
+            return None
+        total += c
+    return total
+
+
+# ---------------------------------------------------------------------------
+# 2. the characteristic function, one kernel for floats and balls
+# ---------------------------------------------------------------------------
+
+def cf_kernel(u, x0, x1, M, T, tails=None, deriv=True, rescale=False):
+    """f_e(u) of the block m = -M, -M+2, ..., M (M = e mod 2) of 000 eq. 10 closed by
+    T continued-fraction levels each side, in the algebra a + b t, t^2 = u.
+
+    Arguments are all floats or all arb balls (M, T ints).  ``tails`` = None
+    starts each tail at 0 (the truncated fraction); otherwise a pair
+    ((ra, rb), (la, lb)) of algebra elements enclosing the neglected right and
+    left ratios.  Returns (A, B, dA/du): the value of the block determinant is
+    A + B t (B = 0 up to rounding for zero tails; for u < 0 the value is A).
+    ``rescale`` divides the continuants by their size now and then (floats:
+    only the ratio A/A' is used, and the products overflow beyond M ~ 100).
+    """
+    c0 = x0 - u
+    zero = u * 0
+    if tails is None:
+        (ra, rb), (la, lb) = (zero, zero), (zero, zero)
+    else:
+        (ra, rb), (la, lb) = tails
+    dra = drb = dla = dlb = zero
+    x12 = x1 * x1
+
+    def level(m, a, b, da, db):
+        Da = c0 - m * m + x1 * a
+        Db = x1 * b - 2 * m
+        n = Da * Da - Db * Db * u
+        inv = 1 / n
+        if deriv:
+            dDa = x1 * da - 1
+            dDb = x1 * db
+            dn = 2 * (Da * dDa - Db * dDb * u) - Db * Db
+            return (-x1 * Da * inv, x1 * Db * inv,
+                    -x1 * (dDa - Da * dn * inv) * inv, x1 * (dDb - Db * dn * inv) * inv)
+        return -x1 * Da * inv, x1 * Db * inv, zero, zero
+
+    for m in range(M + 2 * T, M, -2):
+        ra, rb, dra, drb = level(m, ra, rb, dra, drb)
+    for m in range(-M - 2 * T, -M, 2):
+        la, lb, dla, dlb = level(m, la, lb, dla, dlb)
+
+    # continuant p_j = d_j p_{j-1} - theta1^2 p_{j-2} over the block
+    qa, qb, dqa, dqb = 1 + zero, zero, zero, zero      # p_{-1}
+    pa = pb = dpa = dpb = None
+    ms = range(-M, M + 1, 2)
+    last = M
+    for m in ms:
+        da, db = c0 - m * m, -2 * m + zero
+        dda, ddb = -1 + zero, zero
+        if m == -M:
+            da, db = da + x1 * la, db + x1 * lb
+            dda, ddb = dda + x1 * dla, x1 * dlb
+        if m == last:
+            da, db = da + x1 * ra, db + x1 * rb
+            dda, ddb = dda + x1 * dra, ddb + x1 * drb
+        if pa is None:
+            pa, pb, dpa, dpb = da, db, dda, ddb
+            continue
+        na = da * pa + db * pb * u - x12 * qa
+        nb = da * pb + db * pa - x12 * qb
+        if deriv:
+            dna = (dda * pa + da * dpa + (ddb * pb + db * dpb) * u + db * pb - x12 * dqa)
+            dnb = dda * pb + da * dpb + ddb * pa + db * dpa - x12 * dqb
+        else:
+            dna = dnb = zero
+        qa, qb, dqa, dqb = pa, pb, dpa, dpb
+        pa, pb, dpa, dpb = na, nb, dna, dnb
+        if rescale:
+            s = abs(pa) + abs(pb)
+            if s > 1e100 or 0 < s < 1e-100:
+                s = 1 / s
+                pa, pb, dpa, dpb = pa * s, pb * s, dpa * s, dpb * s
+                qa, qb, dqa, dqb = qa * s, qb * s, dqa * s, dqb * s
+    return pa, pb, dpa
+
+
+def _depths(x0f, x1f, e, digits):
+    """(M, T): block half-width (M = e mod 2, M >= edge index) and tail levels."""
+    m0 = _edge_index(x0f, x1f)
+    M = max(m0, e + 2)
+    if (M - e) % 2:
+        M += 1
+    # the proof starts the tails from the unit disk, not from the fraction itself: a few
+    # more levels than the truncation rule asks (measured: +22 digits at 1000)
+    return M, _tail_steps(x0f, x1f, M, digits + 4 + digits / 30)
+
+
+# ---------------------------------------------------------------------------
+# 3. the double-precision guess
+# ---------------------------------------------------------------------------
+
+def _fvals(x0, x1, e, depth_digits=18):
+    M, T = _depths(x0, x1, e, depth_digits)
+
+    def f(u):
+        a, _, da = cf_kernel(float(u), x0, x1, M, T, rescale=True)
+        return a, da
+    return f
+
+
+def _safe_newton(f, lo, hi, flo, fhi, u0, iters=60):
+    """Root of f in [lo, hi] (f(lo) f(hi) <= 0) by Newton steps kept inside the bracket
+    (bisection otherwise).  f returns (value, derivative)."""
+    u = u0 if lo < u0 < hi else 0.5 * (lo + hi)
+    for _ in range(iters):
+        fu, du = f(u)
+        if fu == 0:
+            return u
+        if (fu > 0) == (flo > 0):
+            lo, flo = u, fu
+        else:
+            hi, fhi = u, fu
+        step = fu / du if du != 0 else math.inf
+        if abs(step) <= 1e-15 * abs(u) or hi - lo <= 4e-16 * max(abs(u), 1e-300):
+            return u - step if lo <= u - step <= hi else u
+        nu = u - step
+        if not (lo < nu < hi) or not math.isfinite(nu):
+            nu = 0.5 * (lo + hi)
+        u = nu
+    return u
+
+
+def guess(x0, x1, count):
+    """(e, u) in double precision for band count ``count`` (floats x0, x1), or None."""
+    if count % 2 == 1:
+        k = (count - 1) // 2
+        for e in (k, k + 1):
+            f = _fvals(x0, x1, e)
+            (f0, d0), (fq, _) = f(0.0), f(0.25)
+            if f0 == 0:
+                return e, 0.0
+            if (f0 > 0) != (fq > 0):
+                u0 = -f0 / d0 if d0 else 0.125
+                return e, _safe_newton(f, 0.0, 0.25, f0, fq, u0)
+        # the root is at u <= 0 within rounding: next to an edge
+        return k, 0.0
+    k = count // 2
+    f = _fvals(x0, x1, k)
+    f0, d0 = f(0.0)
+    if f0 == 0:
+        return k, 0.0
+    U = 1.0
+    fU, _ = f(-U)
+    while (fU > 0) == (f0 > 0):
+        U *= 4
+        if U > 1e12:
+            return None
+        fU, _ = f(-U)
+    u0 = -f0 / d0 if d0 else -0.5 * U
+    return k, _safe_newton(f, -U, 0.0, fU, f0, u0)
+
+
+# ---------------------------------------------------------------------------
+# 4.-5. Newton in arb and the proof
+# ---------------------------------------------------------------------------
+
+def _tail_ok(j, u, x0, x1):
+    """|C_j| >= 2|theta1| for every frequency index >= j on both sides (balls), for u."""
+    a1 = abs(x1)
+    if u >= 0:
+        t = u.sqrt().upper()
+        return j > t and (j - t) ** 2 - x0 - 2 * a1 > 0
+    s2 = -u
+    return bool(j * j - x0 - s2 - 2 * a1 > 0 or j * j * s2 - x1 * x1 > 0)
+
+
+def _value_ball(u, x0, x1, M, T):
+    """Ball containing the exact f_e(u) at the exact point u (an arb), or None if the
+    tail condition cannot be shown."""
+    if not _tail_ok(M + 2 * T + 2, u, x0, x1):
+        return None
+    if u > 0 or u == 0:
+        disk = (arb(0, 1), arb(0))
+        A, B, _ = cf_kernel(u, x0, x1, M, T, tails=(disk, disk), deriv=False)
+        return A + B * u.sqrt()
+    s = (-u).sqrt()
+    disk = (arb(0, 1), arb(0, (1 / s).upper()))
+    A, _, _ = cf_kernel(u, x0, x1, M, T, tails=(disk, disk), deriv=False)
+    return A
+
+
+def _log2(x):
+    """About log2 of a positive arb bound (exponent arithmetic, no float overflow)."""
+    man, exp = x.man_exp()
+    man = int(man)
+    return -10 ** 9 if man == 0 else int(exp) + man.bit_length()
+
+
+def _newton_steps(X0, X1, e, u, prec, x0f, x1f):
+    """Newton on f_e from u at doubling precision up to ``prec`` bits.  Returns
+    (u, last step, rounding uncertainty of u in bits) or None."""
+    steps = []
+    p = prec
+    while p > 60:
+        steps.append(p)
+        p = p // 2 + 8
+    steps.reverse()
+    steps.append(prec)
+    delta = lost = None
+    for bits in steps:
+        with _Prec(bits + 16):
+            x0, x1 = to_ball(X0), to_ball(X1)
+            M, T = _depths(x0f, x1f, e, bits / 3.32 + 2)
+            um = u.mid()
+            A, _, dA = cf_kernel(um, x0, x1, M, T)
+            if dA == 0 or not A.is_finite() or not dA.is_finite():
+                return None
+            delta = (A / dA).mid()
+            u = (um - delta).mid()
+            lost = _log2(A.rad()) - _log2(abs(dA).abs_lower()) if A.rad() != 0 else None
+    return u, delta, lost
+
+
+def certify(X0, X1, count, e, u0, want):
+    """Certified lam ball (and u ball) for band ``count`` and edge e from the start u0
+    (float or arb midpoint), at about ``want`` digits.  Returns (lam, u_ball, depth)
+    with lam an arb (band) or the imaginary part mu (gap), or None when the proof fails
+    at this precision (the caller raises the precision).
+
+    The working precision is raised once within the call by the bits the
+    continuant loses to cancellation (measured from the radius of f at the last
+    Newton step), so that large |theta1| does not need a second attempt."""
+    prec = bits_of(want)
+    band = count % 2 == 1
+    x0f, x1f = float(X0), float(X1)
+    u = arb(u0) if not isinstance(u0, arb) else u0
+    for _attempt in range(2):
+        got = _newton_steps(X0, X1, e, u, prec, x0f, x1f)
+        if got is None:
+            return None
+        u, delta, lost = got
+        with _Prec(prec + 16):
+            um = u.mid()
+            floor = max(abs(um).upper(), arb(2) ** (-prec // 2)) * arb(2) ** (16 - prec)
+        if lost is not None and lost > _log2(floor) + 8 and _attempt == 0:
+            prec += lost - _log2(floor) + 24
+            continue
+        res = _prove(X0, X1, count, e, band, um, delta, prec, x0f, x1f)
+        if res is not None or _attempt == 1:
+            return res
+        prec += prec // 2
+    return None
+
+
+def _prove(X0, X1, count, e, band, um, delta, prec, x0f, x1f):
+    with _Prec(prec + 16):
+        x0, x1 = to_ball(X0), to_ball(X1)
+        M, T = _depths(x0f, x1f, e, prec / 3.32 + 2)
+        # the last step was |delta|, so the error left is about delta^2 (quadratic
+        # convergence on the unit scale of u); a failed proof widens the ball
+        floor = max(abs(um).upper(), arb(2) ** (-prec // 2)) * arb(2) ** (16 - prec)
+        ad = abs(delta).upper()
+        r0 = max(8 * ad * ad, floor)
+        # a ball f containing 0 means too narrow a bracket or too short a tail (the disk
+        # contracts more slowly than the fraction converges when |theta1| is large)
+        T0 = T + T // 4 + 2
+        for r, T in ((r0, T0), (r0, 2 * T0), (r0 * arb(2) ** 20, 2 * T0),
+                     (max(8 * ad, r0 * arb(2) ** 40), 2 * T0)):
+            lo, hi = (um - r).lower(), (um + r).upper()
+            if hi >= 1:
+                return None
+            if band and not lo > 0:
+                return None
+            if not band and not hi < 0:
+                return None
+            flo = _value_ball(arb(lo), x0, x1, M, T)
+            fhi = _value_ball(arb(hi), x0, x1, M, T)
+            if flo is None or fhi is None:
+                return None
+            if (flo > 0 and fhi < 0) or (flo < 0 and fhi > 0):
+                U = arb(lo).union(arb(hi))
+                if band:
+                    t = U.sqrt()
+                    lam = (count - 1) // 2 + t if e == (count - 1) // 2 else e - t
+                    return lam, U, M // 2 + T
+                return (-U).sqrt(), U, M // 2 + T
+        return None
+
+
+def lam_text(ball, digits):
+    """The ``digits``-digit decimal of a ball when both ends round alike, else None."""
+    if ball.is_zero():
+        return "0"
+    return ball_digits(ball, digits)
+
+
+def exponent_at(X0, X1, want, w):
+    """One attempt at working precision w digits: a dict with the certified answer, or
+    None (count, sign of u or digits undecided at this precision)."""
+    bits = bits_of(w)
+    with _Prec(bits):
+        x0, x1 = to_ball(X0), to_ball(X1)
+        count = band_count(x0, x1)
+    if count is None:
+        return None
+    x0f, x1f = float(X0), float(X1)
+    g = guess(x0f, x1f, count)
+    if g is None:
+        return None
+    e, u0 = g
+    if count % 2 == 1 and u0 <= 0:
+        # next to an edge in double precision: start just inside
+        u0 = 1e-30 if u0 == 0 else -u0
+    if count % 2 == 0 and u0 >= 0:
+        u0 = -1e-30 if u0 == 0 else -u0
+    res = certify(X0, X1, count, e, u0, w)
+    if res is None:
+        return None
+    part, U, depth = res
+    with _Prec(bits):
+        text = lam_text(part, want)
+    if text is None:
+        return None
+    return {"count": count, "e": e, "u": U, "part": part, "text": text, "depth": depth,
+            "band": count % 2 == 1}
