@@ -288,19 +288,25 @@ def guess(x0, x1, count):
             if (f0 > 0) != (fq > 0):
                 u0 = -f0 / d0 if d0 else 0.125
                 return e, _safe_newton(f, 0.0, 0.25, f0, fq, u0)
-        # the root is at u <= 0 within rounding: next to an edge
-        return k, 0.0
+        # the root is at u <= 0 within rounding: next to the edge whose root is nearest 0
+        best = None
+        for e in (k, k + 1):
+            f0, d0 = _fvals(x0, x1, e)(0.0)
+            step = abs(f0 / d0) if d0 else math.inf
+            if best is None or step < best[0]:
+                best = (step, e)
+        return best[1], 0.0
     k = count // 2
     f = _fvals(x0, x1, k)
     f0, d0 = f(0.0)
-    if f0 == 0:
-        return k, 0.0
+    if f0 == 0 or (d0 and abs(f0 / d0) < 1e-12):
+        return k, 0.0   # within rounding of the edge: the arb Newton goes on from there
     U = 1.0
     fU, _ = f(-U)
     while (fU > 0) == (f0 > 0):
         U *= 4
         if U > 1e12:
-            return None
+            return k, 0.0
         fU, _ = f(-U)
     u0 = -f0 / d0 if d0 else -0.5 * U
     return k, _safe_newton(f, -U, 0.0, fU, f0, u0)
@@ -367,7 +373,15 @@ def _newton_steps(X0, X1, e, u, prec, x0f, x1f):
     return u, delta, lost
 
 
-def certify(X0, X1, count, e, u0, want):
+def is_tiny(u, digits):
+    """True when the estimate u (float or arb) has |u| <= 10^-digits."""
+    if u is None:
+        return False
+    with _Prec(64):
+        return bool(abs(arb(u)).upper() <= arb(10) ** (-digits))
+
+
+def certify(X0, X1, count, e, u0, want, info=None):
     """Certified lam ball (and u ball) for band ``count`` and edge e from the start u0
     (float or arb midpoint), at about ``want`` digits.  Returns (lam, u_ball, depth)
     with lam an arb (band) or the imaginary part mu (gap), or None when the proof fails
@@ -380,33 +394,38 @@ def certify(X0, X1, count, e, u0, want):
     band = count % 2 == 1
     x0f, x1f = float(X0), float(X1)
     u = arb(u0) if not isinstance(u0, arb) else u0
-    for _attempt in range(2):
+    target = None   # log2 of the uncertainty of u wanted: |u| 2^(16 - prec)
+    for attempt in range(2):
         got = _newton_steps(X0, X1, e, u, prec, x0f, x1f)
         if got is None:
             return None
         u, delta, lost = got
+        if info is not None:
+            info["u"] = u
         with _Prec(prec + 16):
             um = u.mid()
-            floor = max(abs(um).upper(), arb(2) ** (-prec // 2)) * arb(2) ** (16 - prec)
-        if lost is not None and lost > _log2(floor) + 8 and _attempt == 0:
-            prec += lost - _log2(floor) + 24
-            continue
-        res = _prove(X0, X1, count, e, band, um, delta, prec, x0f, x1f)
-        if res is not None or _attempt == 1:
-            return res
-        prec += prec // 2
+            if um == 0:
+                return None
+            if target is None:
+                target = _log2(abs(um).upper()) + 16 - prec
+            if lost is not None and lost + 4 > target:
+                # the continuant loses bits to cancellation (large |theta1|) or u is
+                # tiny (next to an edge): raise the precision once by what is missing
+                if attempt == 0:
+                    prec += lost + 4 - target + 16
+                    continue
+                return None
+            ad = abs(delta).upper()
+            r0 = max(8 * ad * ad, arb(2) ** (target - 8 if lost is None else lost + 4))
+        return _prove(X0, X1, count, e, band, um, ad, r0, prec, x0f, x1f)
     return None
 
 
-def _prove(X0, X1, count, e, band, um, delta, prec, x0f, x1f):
+def _prove(X0, X1, count, e, band, um, ad, r0, prec, x0f, x1f):
+    """The sign-change proof around um (start half-width r0, last Newton step ad)."""
     with _Prec(prec + 16):
         x0, x1 = to_ball(X0), to_ball(X1)
         M, T = _depths(x0f, x1f, e, prec / 3.32 + 2)
-        # the last step was |delta|, so the error left is about delta^2 (quadratic
-        # convergence on the unit scale of u); a failed proof widens the ball
-        floor = max(abs(um).upper(), arb(2) ** (-prec // 2)) * arb(2) ** (16 - prec)
-        ad = abs(delta).upper()
-        r0 = max(8 * ad * ad, floor)
         # a ball f containing 0 means too narrow a bracket or too short a tail (the disk
         # contracts more slowly than the fraction converges when |theta1| is large)
         T0 = T + T // 4 + 2
@@ -440,13 +459,22 @@ def lam_text(ball, digits):
     return ball_digits(ball, digits)
 
 
-def exponent_at(X0, X1, want, w):
+def exponent_at(X0, X1, want, w, info=None):
     """One attempt at working precision w digits: a dict with the certified answer, or
-    None (count, sign of u or digits undecided at this precision)."""
+    None (count, sign of u or digits undecided at this precision).  ``info`` (a dict)
+    receives the last band edge and estimate of u, for the caller's verdict when the
+    precision runs out."""
+    info = {} if info is None else info
     bits = bits_of(w)
     with _Prec(bits):
         x0, x1 = to_ball(X0), to_ball(X1)
         count = band_count(x0, x1)
+        if count is None:
+            # undecided: theta0 is within its rounding of the curve v_c between counts
+            # c and c + 1 (a_0 < b_1 < a_1 < b_2 ... for q > 0), of edge (c + 1) // 2
+            c = band_count(x0.mid(), x1.mid())
+            info["e"] = (c + 1) // 2 if c is not None else int(round(math.sqrt(max(float(X0), 0))))
+            info["u"] = 0.0
     if count is None:
         return None
     x0f, x1f = float(X0), float(X1)
@@ -454,12 +482,13 @@ def exponent_at(X0, X1, want, w):
     if g is None:
         return None
     e, u0 = g
+    info["e"], info["u"] = e, u0
     if count % 2 == 1 and u0 <= 0:
         # next to an edge in double precision: start just inside
         u0 = 1e-30 if u0 == 0 else -u0
     if count % 2 == 0 and u0 >= 0:
         u0 = -1e-30 if u0 == 0 else -u0
-    res = certify(X0, X1, count, e, u0, w)
+    res = certify(X0, X1, count, e, u0, w, info)
     if res is None:
         return None
     part, U, depth = res

@@ -16,10 +16,11 @@ from pendulab.analyses.floquet._bands import _edge_count
 from pendulab.analyses.floquet._cf import _cf_u
 from pendulab.analyses.floquet._hill import _hill_y
 from pendulab.analyses.floquet._inputs import (
-    DOUBLE_DPS, GUARD, METHODS, SIZE_LIMITS, _check_dps, _check_size, _exact, _is_array,
+    DOUBLE_DPS, METHODS, SIZE_LIMITS, _check_dps, _check_size, _exact, _is_array,
     _is_int_square, _is_zero, _mp,
 )
 from pendulab.analyses.floquet._monodromy import _monodromy_y
+from pendulab.analyses.floquet._precision import GUARD, autoprec
 
 
 def _u_from_y(y, count):
@@ -64,8 +65,14 @@ class FloquetResult:
                  of its side, so lam, multipliers and verdict always agree.
     depth        truncation depth used (cf: Fourier index |n| reached; hill: number
                  of truncated determinants extrapolated; monodromy: Taylor order)
-    method, dps  as asked; working_dps is the precision finally used
+    method, dps  as asked (method "arb" when dps was given and no method); working_dps
+                 is the precision finally used
     band_edge    the integer e nearest to Re(lam) that the computation was based on
+    certified_digits  method "arb": the number of significant digits of lam (of its
+                 imaginary part in a gap, whose real part e is exact) proved by ball
+                 arithmetic -- every one of them is the correctly rounded digit of
+                 the exact exponent; None for the mpmath routes, for double
+                 precision and on a boundary (lam = e by convention, not proved)
     """
 
     lam: object
@@ -77,6 +84,7 @@ class FloquetResult:
     dps: object
     working_dps: int
     band_edge: int
+    certified_digits: object = None
 
     @property
     def trace(self):
@@ -113,15 +121,17 @@ def _finish(lam, dps, out_dps):
         return +lam, tuple(+m for m in mults)
 
 
-def characteristic_exponent(theta0, theta1, dps=None, method="hill", max_dps=None):
+def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None):
     """Floquet characteristic exponent lam of 000 eq. 7 with its multipliers and verdict.
 
     theta0, theta1 : real numbers; str ("-0.002", "1/5"), int, Fraction, float or
         mpf.  Strings and fractions are exact and rounded afresh at each working
         precision.
     dps : decimal digits wanted (None: double precision, plain float/complex out).
-    method : "hill" (default), "cf" or "monodromy" -- three independent routes
-        that agree to the digits asked.
+    method : None (default: "arb" when dps is given, else "hill"), "arb" (ball
+        arithmetic: every digit of lam proved, ``certified_digits`` says how
+        many), or one of the independent mpmath routes "hill", "cf",
+        "monodromy" -- all four agree to the digits asked.
     max_dps : ceiling for the automatic growth of the working precision near
         band edges (default 4*dps + 60).
 
@@ -134,7 +144,11 @@ def characteristic_exponent(theta0, theta1, dps=None, method="hill", max_dps=Non
     >>> s = characteristic_exponent("-0.002", "0.2", dps=30, method="hill")
     >>> abs(r.lam - s.lam) < 1e-29
     True
+    >>> characteristic_exponent("-0.002", "0.2", dps=30).certified_digits
+    30
     """
+    if method is None:
+        method = "hill" if dps is None else "arb"
     if method not in METHODS:
         raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     if _is_array(theta0) or _is_array(theta1):
@@ -152,48 +166,50 @@ def characteristic_exponent(theta0, theta1, dps=None, method="hill", max_dps=Non
 
     # theta1 = 0: lam = sqrt(theta0) exactly; on a curve only at theta0 = k^2 exactly
     if _is_zero(X1):
-        with mpmath.workdps(want + GUARD):
-            x0 = _mp(X0)
-            lam = mpmath.sqrt(x0) if x0 >= 0 else mpmath.mpc(0, mpmath.sqrt(-x0))
-        on_b = _is_int_square(X0) is not None
-        stable = bool(X0 > 0)
-        edge = int(mpmath.nint(mpmath.re(lam)))
-        lam_out, mults = _finish(lam, dps, want)
-        return FloquetResult(lam_out, mults, stable, bool(on_b), 0, method, dps,
-                             want + GUARD, edge)
+        return _free(X0, dps, want, method)
+    if method == "arb":
+        return _arb_exponent(X0, X1, dps, want, max_dps, theta0, theta1)
 
     # u = (lam - e)^2 is computed at two working precisions w < w2.  Its sign (the
     # verdict) is *decided* when both agree on the band, on the sign, with the
     # count, and differ by less than |u|/2; it is *resolved* when they also agree
-    # to want + 3 digits.  Otherwise the working precision grows up to max_dps.
-    # If even there the sign cannot be decided while |u| is below 10^-(2 want),
-    # theta0 lies on the curve to all the digits available: on_boundary, lam = e.
-    w = want + GUARD
+    # to want + 3 digits.  Otherwise the working precision grows up to max_dps
+    # (the rule of _precision.autoprec).  If even there the sign cannot be decided
+    # while |u| is below 10^-(2 want), theta0 lies on the curve to all the digits
+    # available: on_boundary, lam = e.
     tiny = mpmath.mpf(10) ** (-(want + 3))
-    on_b = False
-    while True:
-        c1, e1, u1, _ = _core(method, X0, X1, w)
-        w2 = w + 12
-        c2, e2, u2, depth = _core(method, X0, X1, w2)
+
+    def decided(a, b):
+        c1, e1, u1, _ = a
+        c2, e2, u2, _ = b
+        err = abs(u1 - u2)
+        return (c1 == c2 and e1 == e2 and u1 != 0 and u2 != 0
+                and (u1 > 0) == (u2 > 0) == (c2 % 2 == 1) and 2 * err < abs(u2)), err
+
+    def accept(a, b, w2):
         with mpmath.workdps(w2):
-            err = abs(u1 - u2)
-            decided = (c1 == c2 and e1 == e2 and u1 != 0 and u2 != 0
-                       and (u1 > 0) == (u2 > 0) == (c2 % 2 == 1) and 2 * err < abs(u2))
-            if decided and err <= tiny * abs(u2):
-                count, e, u = c2, e2, u2
-                break
-            if w2 + 12 > max_dps:
-                if not decided and abs(u2) + err <= mpmath.mpf(10) ** (-2 * want):
-                    count, e, u, on_b = c2, e2, mpmath.mpf(0), True
-                    break
-                what = ("the digits of the exponent" if decided
-                        else "on which side of a characteristic curve the point lies")
-                raise PrecisionError(
-                    f"dps={want} cannot resolve {what} at theta0={theta0}, "
-                    f"theta1={theta1} with method {method!r} within max_dps={max_dps} "
-                    f"(two working precisions differ by {mpmath.nstr(err, 3)} in "
-                    f"u = (lam - {e2})^2 = {mpmath.nstr(u2, 3)}); raise max_dps")
-        w = min(max(w + 12, 2 * w - want), max_dps - 12)
+            ok, err = decided(a, b)
+            return ok and err <= tiny * abs(b[2])
+
+    def exhausted(a, b, w2):
+        with mpmath.workdps(w2):
+            ok, err = decided(a, b)
+            c2, e2, u2, depth = b
+            if not ok and abs(u2) + err <= mpmath.mpf(10) ** (-2 * want):
+                return (c2, e2, mpmath.mpf(0), depth, True), w2
+            what = ("the digits of the exponent" if ok
+                    else "on which side of a characteristic curve the point lies")
+            raise PrecisionError(
+                f"dps={want} cannot resolve {what} at theta0={theta0}, "
+                f"theta1={theta1} with method {method!r} within max_dps={max_dps} "
+                f"(two working precisions differ by {mpmath.nstr(err, 3)} in "
+                f"u = (lam - {e2})^2 = {mpmath.nstr(u2, 3)}); raise max_dps")
+
+    res, w2 = autoprec(lambda w: _core(method, X0, X1, w), want, max_dps, accept, exhausted)
+    if len(res) == 5:
+        count, e, u, depth, on_b = res
+    else:
+        (count, e, u, depth), on_b = res, False
 
     with mpmath.workdps(w2):
         if on_b:
@@ -210,3 +226,59 @@ def characteristic_exponent(theta0, theta1, dps=None, method="hill", max_dps=Non
     lam_out, mults = _finish(lam, dps, want)
     return FloquetResult(lam_out, mults, bool(stable), bool(on_b), int(depth), method,
                          dps, int(w2), int(e))
+
+
+def _free(X0, dps, want, method):
+    """theta1 = 0: lam = sqrt(theta0) exactly (imaginary for theta0 < 0); on a curve
+    only at theta0 = k^2; method "arb" proves the digits of sqrt(theta0)."""
+    with mpmath.workdps(want + GUARD):
+        x0 = _mp(X0)
+        lam = mpmath.sqrt(x0) if x0 >= 0 else mpmath.mpc(0, mpmath.sqrt(-x0))
+    on_b = _is_int_square(X0) is not None
+    stable = bool(X0 > 0)
+    edge = int(mpmath.nint(mpmath.re(lam)))
+    certified = None
+    if method == "arb" and dps is not None:
+        from pendulab.analyses.floquet import _arb
+        for w in (want + GUARD, 2 * want + GUARD, 4 * want + GUARD):
+            with _arb._Prec(_arb.bits_of(w)):
+                root = abs(_arb.to_ball(X0)).sqrt()
+                text = _arb.lam_text(root, want)
+            if text is not None:
+                with mpmath.workdps(want + GUARD):
+                    r = mpmath.mpf(text)
+                    lam = r if X0 >= 0 else mpmath.mpc(0, r)
+                certified = want
+                break
+    lam_out, mults = _finish(lam, dps, want)
+    return FloquetResult(lam_out, mults, stable, bool(on_b), 0, method, dps, want + GUARD,
+                         edge, certified)
+
+
+def _arb_exponent(X0, X1, dps, want, max_dps, theta0, theta1):
+    """Method "arb" (module _arb): certified lam; the verdict at the ceiling as above."""
+    from pendulab.analyses.floquet import _arb
+
+    info = {}
+
+    def exhausted(w):
+        if "e" in info and _arb.is_tiny(info.get("u"), 2 * want):
+            return None, w
+        raise PrecisionError(
+            f"dps={want} cannot prove the digits of the exponent (or the side of the "
+            f"characteristic curve) at theta0={theta0}, theta1={theta1} with method 'arb' "
+            f"within max_dps={max_dps}; raise max_dps")
+
+    res, w = autoprec(lambda ww: _arb.exponent_at(X0, X1, want, ww, info), want, max_dps,
+                      exhausted=exhausted, two=False)
+    if res is None:  # on the curve to all the precision available
+        e = info["e"]
+        lam_out, mults = _finish(mpmath.mpf(e), dps, want)
+        return FloquetResult(lam_out, mults, False, True, 0, "arb", dps, int(w), int(e))
+    e, text = res["e"], res["text"]
+    with mpmath.workdps(want + GUARD):
+        part = mpmath.mpf(text)
+        lam = part if res["band"] else mpmath.mpc(e, part)
+    lam_out, mults = _finish(lam, dps, want)
+    return FloquetResult(lam_out, mults, res["band"], False, int(res["depth"]), "arb", dps,
+                         int(w), int(e), want if dps is not None else None)

@@ -16,10 +16,9 @@ import mpmath
 from pendulab.errors import InputError
 
 
-METHODS = ("hill", "cf", "monodromy")
+METHODS = ("hill", "cf", "monodromy", "arb")
 
-#: extra decimal digits carried beyond the precision asked for
-GUARD = 10
+from pendulab.analyses.floquet._precision import GUARD  # noqa: E402,F401  (the one guard rule)
 #: precision used when ``dps=None`` (the result is then returned as float/complex)
 DOUBLE_DPS = 16
 MAX_DPS_LIMIT = 20000
@@ -31,7 +30,7 @@ MAX_DPS_LIMIT = 20000
 #: hill 1.8 s at S = 2e6 (theta1 = 1e6), 9.7 s at S = 8e6; cf 3.2 s at S = 2e4,
 #: 6.1 s at S = 3e4, and a PrecisionError after 18 s at S = 2e5; monodromy
 #: 3.5 s at S = 2e3, 10 s at S = 6e3, 41 s at S = 2e4.
-SIZE_LIMITS = {"hill": 4e6, "cf": 3e4, "monodromy": 5e3}
+SIZE_LIMITS = {"hill": 4e6, "cf": 3e4, "monodromy": 5e3, "arb": 3e4}
 #: The same bound for the characteristic values (S = 2|q|), the stability limits
 #: (S = 4 ratio^2) and the vectorised functions (the largest S of the arrays).
 SIZE_LIMIT = 4e6
