@@ -20,7 +20,9 @@ def test_json_output_keys_and_full_precision(capsys):
     assert code == 0 and err == ""
     rec = json.loads(out)
     assert set(rec) >= {"lambda", "multipliers", "stable", "depth", "method", "dps"}
-    assert rec["stable"] is True and rec["method"] == "hill" and rec["dps"] == 40
+    # with --dps the default is the ball-arithmetic route, which says what it proved
+    assert rec["stable"] is True and rec["method"] == "arb" and rec["dps"] == 40
+    assert rec["certified_digits"] == 40
     assert len(rec["lambda"].replace("0.", "", 1)) >= 38
     # the same number as the API with the other method
     from pendulab.analyses.floquet import characteristic_exponent

@@ -192,7 +192,8 @@ WORK_BUDGET_SECONDS = 60
 #: The cost model of one Floquet point: seconds ~ BASE + COEF * sqrt(1 + S) * max(1, dps/30)**EXP
 #: with S = |theta0| + 2|theta1|; (COEF, EXP) per method.  Fitted from above to the
 #: measurements in docs/scenes.md ("Limits"): the estimate is at least the time measured.
-FLOQUET_POINT_MODEL = {"hill": (1e-3, 0.5), "cf": (0.025, 0.5), "monodromy": (0.14, 1.5)}
+FLOQUET_POINT_MODEL = {"hill": (1e-3, 0.5), "cf": (0.025, 0.5), "monodromy": (0.14, 1.5),
+                       "arb": (3e-3, 1.0)}  # arb: 0.5 s at S = 3e4, 0.07 s at 1000 digits
 #: One exact stability limit (first band at omega0/omega = r): 0.1 + 0.2*sqrt(r)*max(1, dps/30)**0.6.
 FLOQUET_RATIO_MODEL = (0.1, 0.2, 0.6)
 _POINT_BASE = 0.02

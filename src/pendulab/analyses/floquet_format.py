@@ -50,4 +50,5 @@ def result_record(result, theta0_text, theta1_text):
         "depth": int(result.depth),
         "method": result.method,
         "dps": dps,
+        "certified_digits": getattr(result, "certified_digits", None),
     }

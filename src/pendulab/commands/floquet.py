@@ -1,9 +1,9 @@
-"""pendulab floquet --theta0 THETA0 --theta1 THETA1 [--dps D] [--method hill|cf|monodromy] [--json]"""
+"""pendulab floquet --theta0 THETA0 --theta1 THETA1 [--dps D] [--method arb|hill|cf|monodromy] [--json]"""
 
 
 #: pendulab.analyses.floquet.SIZE_LIMITS as text (not imported to build the parser; a test
 #: checks that they agree)
-SIZES = "4e+06 (hill), 30000 (cf), 5000 (monodromy)"
+SIZES = "4e+06 (hill), 30000 (cf), 5000 (monodromy), 30000 (arb)"
 
 
 def add_parser(sub):
@@ -23,8 +23,10 @@ def add_parser(sub):
                    help="theta1 = 2 a l m / I (000 eq. 6), e.g. 0.2 or 1/5")
     p.add_argument("--dps", type=int, default=None,
                    help=f"decimal digits, {describe('floquet.dps')} (default: double precision)")
-    p.add_argument("--method", choices=("hill", "cf", "monodromy"), default="hill",
-                   help="Hill's determinant, continued fractions, or monodromy matrix")
+    p.add_argument("--method", choices=("arb", "hill", "cf", "monodromy"), default=None,
+                   help="arb: every digit proved in ball arithmetic (the default with --dps); "
+                        "hill (the default without), cf, monodromy: Hill's determinant, "
+                        "continued fractions, monodromy matrix in mpmath")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.set_defaults(func=run)
     return p
@@ -40,6 +42,8 @@ def run(args):
     from pendulab.analyses.floquet import SIZE_LIMITS, _check_size, _exact
     if args.dps is not None:
         limits.check("floquet.dps", args.dps, label="--dps")
+    if args.method is None:
+        args.method = "hill" if args.dps is None else "arb"
     # the numbers and the method's size limit first (their own messages), then the work
     _check_size(_exact(args.theta0, "theta0"), _exact(args.theta1, "theta1"),
                 SIZE_LIMITS[args.method], f"method {args.method!r}")
@@ -62,4 +66,7 @@ def run(args):
     print(f"lambda      = {rec['lambda']}")
     print(f"multipliers = {rec['multipliers'][0]}, {rec['multipliers'][1]}")
     print(f"verdict     = {verdict}")
+    cert = rec.get("certified_digits")
+    print("certified   = " + (f"{cert} significant digits of lambda proved (ball arithmetic)"
+                               if cert else "no (not a ball-arithmetic result)"))
     return 0

@@ -21,7 +21,7 @@ OPTIONS = {
     "points": _limited("floquet.points"),
     "ratios": _limited("floquet.ratios"),
     "dps": _limited("floquet.dps"),
-    "method": (str, "hill", "hill, cf or monodromy"),
+    "method": (str, "arb", "arb (every digit proved), hill, cf or monodromy"),
 }
 SYSTEMS = ("kapitza",)
 

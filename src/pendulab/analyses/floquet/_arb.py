@@ -245,12 +245,32 @@ def _depths(x0f, x1f, e, digits):
 # 3. the double-precision guess
 # ---------------------------------------------------------------------------
 
-def _fvals(x0, x1, e, depth_digits=18):
-    M, T = _depths(x0, x1, e, depth_digits)
+def loss_bits(x0f, x1f):
+    """Bits the block continuant loses to cancellation, measured (one run) as about
+    0.85 sqrt(S), S = |theta0| + 2|theta1|: 42 bits at S = 2e3, 87 at 2e4."""
+    return int(math.sqrt(abs(x0f) + 2 * abs(x1f))) + 4
+
+
+def _fvals(X0, X1, e, prec=None, depth_digits=18):
+    """u -> (f_e(u), f_e'(u)) for the guess: in floats (prec None) or, when the
+    continuant loses too many bits for floats, in arb at ``prec`` bits returning the
+    floats (f/|f'|, sign f') -- the Newton step and the sign are all the guess uses."""
+    x0f, x1f = float(X0), float(X1)
+    M, T = _depths(x0f, x1f, e, depth_digits)
+    if prec is None:
+        def f(u):
+            a, _, da = cf_kernel(float(u), x0f, x1f, M, T, rescale=True)
+            return a, da
+        return f
+    with _Prec(prec):
+        x0, x1 = to_ball(X0), to_ball(X1)
 
     def f(u):
-        a, _, da = cf_kernel(float(u), x0, x1, M, T, rescale=True)
-        return a, da
+        with _Prec(prec):
+            a, _, da = cf_kernel(arb(u), x0, x1, M, T)
+            if da == 0 or not (da > 0 or da < 0):
+                return float(a.mid()), 0.0
+            return float((a / abs(da)).mid()), (1.0 if da > 0 else -1.0)
     return f
 
 
@@ -276,12 +296,21 @@ def _safe_newton(f, lo, hi, flo, fhi, u0, iters=60):
     return u
 
 
-def guess(x0, x1, count):
-    """(e, u) in double precision for band count ``count`` (floats x0, x1), or None."""
+def guess(X0, X1, count):
+    """(e, u) in double precision for band count ``count`` (exact X0, X1).  Plain floats
+    for S = |theta0| + 2|theta1| up to ~600; beyond, the same kernel in arb at
+    53 + :func:`loss_bits` bits."""
+    x0f, x1f = float(X0), float(X1)
+    lost = loss_bits(x0f, x1f)
+    prec = None if lost < 28 else 60 + lost
+
+    def fv(e):
+        return _fvals(X0, X1, e, prec)
+
     if count % 2 == 1:
         k = (count - 1) // 2
         for e in (k, k + 1):
-            f = _fvals(x0, x1, e)
+            f = fv(e)
             (f0, d0), (fq, _) = f(0.0), f(0.25)
             if f0 == 0:
                 return e, 0.0
@@ -291,13 +320,13 @@ def guess(x0, x1, count):
         # the root is at u <= 0 within rounding: next to the edge whose root is nearest 0
         best = None
         for e in (k, k + 1):
-            f0, d0 = _fvals(x0, x1, e)(0.0)
+            f0, d0 = fv(e)(0.0)
             step = abs(f0 / d0) if d0 else math.inf
             if best is None or step < best[0]:
                 best = (step, e)
         return best[1], 0.0
     k = count // 2
-    f = _fvals(x0, x1, k)
+    f = fv(k)
     f0, d0 = f(0.0)
     if f0 == 0 or (d0 and abs(f0 / d0) < 1e-12):
         return k, 0.0   # within rounding of the edge: the arb Newton goes on from there
@@ -351,10 +380,11 @@ def _log2(x):
 def _newton_steps(X0, X1, e, u, prec, x0f, x1f):
     """Newton on f_e from u at doubling precision up to ``prec`` bits.  Returns
     (u, last step, rounding uncertainty of u in bits) or None."""
+    extra = loss_bits(x0f, x1f)
     steps = []
-    p = prec
+    p = prec - extra
     while p > 60:
-        steps.append(p)
+        steps.append(p + extra)
         p = p // 2 + 8
     steps.reverse()
     steps.append(prec)
@@ -390,9 +420,9 @@ def certify(X0, X1, count, e, u0, want, info=None):
     The working precision is raised once within the call by the bits the
     continuant loses to cancellation (measured from the radius of f at the last
     Newton step), so that large |theta1| does not need a second attempt."""
-    prec = bits_of(want)
-    band = count % 2 == 1
     x0f, x1f = float(X0), float(X1)
+    prec = bits_of(want) + loss_bits(x0f, x1f)
+    band = count % 2 == 1
     u = arb(u0) if not isinstance(u0, arb) else u0
     target = None   # log2 of the uncertainty of u wanted: |u| 2^(16 - prec)
     for attempt in range(2):
@@ -478,9 +508,7 @@ def exponent_at(X0, X1, want, w, info=None):
     if count is None:
         return None
     x0f, x1f = float(X0), float(X1)
-    g = guess(x0f, x1f, count)
-    if g is None:
-        return None
+    g = guess(X0, X1, count)
     e, u0 = g
     info["e"], info["u"] = e, u0
     if count % 2 == 1 and u0 <= 0:
