@@ -42,6 +42,7 @@ C_m = theta0 - (m + t)^2, m = 2n + e, t = lam - e (000 eqs. 8-10).
 
 from __future__ import annotations
 
+import functools
 import math
 from fractions import Fraction
 
@@ -177,23 +178,26 @@ def cf_kernel(u, x0, x1, M, T, tails=None, deriv=True, rescale=False):
     dra = drb = dla = dlb = zero
     x12 = x1 * x1
 
-    def level(m, a, b, da, db):
-        Da = c0 - m * m + x1 * a
-        Db = x1 * b - 2 * m
-        n = Da * Da - Db * Db * u
-        inv = 1 / n
-        if deriv:
-            dDa = x1 * da - 1
-            dDb = x1 * db
-            dn = 2 * (Da * dDa - Db * dDb * u) - Db * Db
-            return (-x1 * Da * inv, x1 * Db * inv,
-                    -x1 * (dDa - Da * dn * inv) * inv, x1 * (dDb - Db * dn * inv) * inv)
-        return -x1 * Da * inv, x1 * Db * inv, zero, zero
-
-    for m in range(M + 2 * T, M, -2):
-        ra, rb, dra, drb = level(m, ra, rb, dra, drb)
-    for m in range(-M - 2 * T, -M, 2):
-        la, lb, dla, dlb = level(m, la, lb, dla, dlb)
+    # one level r <- -theta1 / (C_m + theta1 r), C_m = (theta0 - m^2 - u) - 2m t; the
+    # inverse of D = Da + Db t is (Da - Db t)/n, n = Da^2 - Db^2 u
+    for side, ms in ((0, range(M + 2 * T, M, -2)), (1, range(-M - 2 * T, -M, 2))):
+        a, b, da, db = (ra, rb, dra, drb) if side == 0 else (la, lb, dla, dlb)
+        for m in ms:
+            Da = c0 - m * m + x1 * a
+            Db = x1 * b - 2 * m
+            n = Da * Da - Db * Db * u
+            inv = 1 / n
+            if deriv:
+                dDa = x1 * da - 1
+                dDb = x1 * db
+                dn = 2 * (Da * dDa - Db * dDb * u) - Db * Db
+                da = -x1 * (dDa - Da * dn * inv) * inv
+                db = x1 * (dDb - Db * dn * inv) * inv
+            a, b = -x1 * Da * inv, x1 * Db * inv
+        if side == 0:
+            ra, rb, dra, drb = a, b, da, db
+        else:
+            la, lb, dla, dlb = a, b, da, db
 
     # continuant p_j = d_j p_{j-1} - theta1^2 p_{j-2} over the block
     qa, qb, dqa, dqb = 1 + zero, zero, zero, zero      # p_{-1}
@@ -231,6 +235,11 @@ def cf_kernel(u, x0, x1, M, T, tails=None, deriv=True, rescale=False):
 
 
 def _depths(x0f, x1f, e, digits):
+    return _depths_cached(x0f, x1f, e, int(digits) + 1)
+
+
+@functools.lru_cache(maxsize=4096)
+def _depths_cached(x0f, x1f, e, digits):
     """(M, T): block half-width (M = e mod 2, M >= edge index) and tail levels."""
     m0 = _edge_index(x0f, x1f)
     M = max(m0, e + 2)
@@ -287,13 +296,32 @@ def _safe_newton(f, lo, hi, flo, fhi, u0, iters=60):
         else:
             hi, fhi = u, fu
         step = fu / du if du != 0 else math.inf
-        if abs(step) <= 1e-15 * abs(u) or hi - lo <= 4e-16 * max(abs(u), 1e-300):
+        if abs(step) <= 1e-13 * abs(u) or hi - lo <= 1e-13 * max(abs(u), 1e-300):
             return u - step if lo <= u - step <= hi else u
         nu = u - step
         if not (lo < nu < hi) or not math.isfinite(nu):
             nu = 0.5 * (lo + hi)
         u = nu
     return u
+
+
+def _plain_newton(f, u, lo, hi, iters=8):
+    """Newton from u while the iterates stay in (lo, hi); the root or None."""
+    last = math.inf
+    for _ in range(iters):
+        fu, du = f(u)
+        if du == 0:
+            return None
+        step = fu / du
+        u = u - step
+        if not lo < u < hi:
+            return None
+        # ~40 correct bits are all the arb Newton needs; rounding noise of the float
+        # continuant stops the steps from shrinking further
+        if abs(step) <= 1e-13 * abs(u) or (abs(step) >= 0.5 * last and abs(step) < 1e-8 * abs(u)):
+            return u
+        last = abs(step)
+    return None
 
 
 def guess(X0, X1, count):
@@ -309,6 +337,11 @@ def guess(X0, X1, count):
 
     if count % 2 == 1:
         k = (count - 1) // 2
+        for e in (k, k + 1):
+            # plain Newton from the edge u = 0 first (the proof checks the answer)
+            u = _plain_newton(fv(e), 0.0, 0.0, 0.3)
+            if u is not None:
+                return e, u
         for e in (k, k + 1):
             f = fv(e)
             (f0, d0), (fq, _) = f(0.0), f(0.25)
@@ -379,27 +412,50 @@ def _log2(x):
 
 def _newton_steps(X0, X1, e, u, prec, x0f, x1f):
     """Newton on f_e from u at doubling precision up to ``prec`` bits.  Returns
-    (u, last step, rounding uncertainty of u in bits) or None."""
+    (u, last step, rounding uncertainty of u in bits) or None.
+
+    The ladder halves the useful bits from ``prec`` down to ~100 (a double guess
+    has ~50 correct bits); further steps at ``prec`` follow only when the last
+    one was not already below half the digits."""
     extra = loss_bits(x0f, x1f)
-    steps = []
-    p = prec - extra
-    while p > 60:
-        steps.append(p + extra)
+    ladder = []
+    p = (prec - extra) // 2 + 8
+    while p > 100:
+        ladder.append(p + extra)
         p = p // 2 + 8
-    steps.reverse()
-    steps.append(prec)
-    delta = lost = None
-    for bits in steps:
+    ladder.reverse()
+    delta = lost = dA = None
+
+    def step(bits, u, dA):
         with _Prec(bits + 16):
             x0, x1 = to_ball(X0), to_ball(X1)
             M, T = _depths(x0f, x1f, e, bits / 3.32 + 2)
             um = u.mid()
-            A, _, dA = cf_kernel(um, x0, x1, M, T)
+            if dA is None:
+                A, _, dA = cf_kernel(um, x0, x1, M, T)
+            else:
+                A, _, _ = cf_kernel(um, x0, x1, M, T, deriv=False)
             if dA == 0 or not A.is_finite() or not dA.is_finite():
                 return None
             delta = (A / dA).mid()
-            u = (um - delta).mid()
             lost = _log2(A.rad()) - _log2(abs(dA).abs_lower()) if A.rad() != 0 else None
+            return (um - delta).mid(), delta, lost, dA
+
+    for bits in ladder:
+        got = step(bits, u, None)
+        if got is None:
+            return None
+        u, delta, lost, dA = got
+    for k in range(4):
+        got = step(prec, u, None)
+        if got is None:
+            return None
+        u, delta, lost, dA = got
+        with _Prec(prec + 16):
+            # converged when this step is below half the digits (the next is below all)
+            small = abs(delta) <= (abs(u) + arb(2) ** (-prec // 3)) * arb(2) ** (8 - (prec - extra) // 2)
+        if small:
+            break
     return u, delta, lost
 
 
