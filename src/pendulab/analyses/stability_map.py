@@ -15,7 +15,9 @@ from fractions import Fraction
 
 import mpmath
 
-from pendulab.analyses.floquet._charvalues import _band_at_two_precisions, _first_band_mp
+from pendulab.analyses.floquet._charvalues import (
+    _band_at_two_precisions, _band_certified, _first_band_mp, _value_method,
+)
 from pendulab.analyses.floquet._inputs import SIZE_LIMIT, _check_dps, _exact, _mp
 from pendulab.analyses.floquet._vectorised import is_stable
 from pendulab.errors import InputError
@@ -23,7 +25,7 @@ from pendulab.errors import InputError
 __all__ = ["stability_limits", "map_limits", "stability_map", "map_stability"]
 
 
-def stability_limits(ratio, inertia_ratio=1, dps=None):
+def stability_limits(ratio, inertia_ratio=1, dps=None, method=None):
     """Exact limits (lower, upper) of a/l for the inverted pendulum to be stable.
 
     ratio = omega0/omega >= 0, inertia_ratio = I/(m l^2) > 0 (point mass 1,
@@ -34,7 +36,7 @@ def stability_limits(ratio, inertia_ratio=1, dps=None):
     band of the Mathieu plane at that theta0 is :func:`first_band` (theta1
     from a_0(q) = theta0 to b_1(|q|) = theta0), divided by theta1/(a/l).
     Only this first band is reported; for large ratio further, exponentially
-    thin bands exist at much larger a/l.
+    thin bands exist at much larger a/l.  ``method`` as for :func:`map_limits`.
 
     >>> lo, up = stability_limits(0, 1)
     >>> lo, round(up, 6)
@@ -51,22 +53,38 @@ def stability_limits(ratio, inertia_ratio=1, dps=None):
         raise InputError(f"ratio = omega0/omega must be <= {math.sqrt(SIZE_LIMIT / 4):g} "
                          f"(|theta0| = 4 ratio^2 <= {SIZE_LIMIT:g}), got {ratio}")
     return map_limits(body_map(), {"w0_over_w": R, "inertia_ratio": IR}, dps,
-                      what=f"stability_limits({ratio})")
+                      what=f"stability_limits({ratio})", method=method)
 
 
-def map_limits(pmap, point, dps=None, what="the limits"):
+def map_limits(pmap, point, dps=None, what="the limits", method=None):
     """(lower, upper) of a/l in the first stable band for a ParameterMap at ``point``.
 
     ``pmap`` is a :class:`pendulab.analyses.stability.ParameterMap` of a
     Mathieu drive whose theta1 is proportional to a/l; ``point`` gives the
     other groups ({"w0_over_w": ..., "inertia_ratio": ...}; exact values such
     as Fraction or decimal text are rounded afresh at each working precision).
-    theta0 and the scale (a/l)/theta1 are evaluated with the map's mpmath
-    function at the working precision, the band by :func:`first_band`.
+
+    method None (default): "arb" when dps is given and theta0 and the scale
+    (a/l)/theta1 of the map are rational at the point (the source's drive with
+    rational ratio and I/(m l^2)): both are evaluated exactly from the
+    derivation (SymPy, exact rationals) and the band by the ball-arithmetic
+    route of :func:`first_band`, every digit proved; otherwise "mpmath":
+    theta0 and the scale with the map's mpmath function at the working
+    precision, the band by the mpmath route.  Returns a Limits pair whose
+    ``certified_digits`` says how many digits are proved (None: mpmath).
     """
     dps = _check_dps(dps)
+    method = _value_method(method, dps, "map_limits")
     exact = {k: (v if isinstance(v, (Fraction, mpmath.mpf)) else _exact(v, k))
              for k, v in point.items()}
+    if method == "arb":
+        rational = _exact_groups(pmap, exact)
+        if rational is not None:
+            th0, scale = rational
+            if th0 >= 1:
+                raise InputError(f"theta0 = {float(th0):.8g} >= 1: the first stable band at "
+                                 "theta0 >= 1 is not the one that starts at theta1 = 0")
+            return _band_certified(th0, dps, what, scale=abs(scale))
 
     def band(ww):
         args = {k: _mp(v) for k, v in exact.items()}
@@ -75,6 +93,30 @@ def map_limits(pmap, point, dps=None, what="the limits"):
         lo, up = _first_band_mp(th0, ww)
         return lo * scale, up * scale
     return _band_at_two_precisions(band, dps, what)
+
+
+def _exact_groups(pmap, exact):
+    """(theta0, scale) as Fractions from the derivation at exact ``point`` values, or
+    None when they are not rational there (then the mpmath route is used)."""
+    import sympy as sp
+
+    def rat(v):
+        if isinstance(v, Fraction):
+            return sp.Rational(v.numerator, v.denominator)
+        sign, man, exp, _ = v._mpf_
+        r = sp.Integer(int(man)) * sp.Integer(2) ** int(exp)
+        return -r if sign else r
+    names = {s.name: s for s in pmap.symbols}
+    if set(exact) - set(names) or pmap.scale is None:
+        return None
+    sub = {names[k]: rat(v) for k, v in exact.items()}
+    out = []
+    for expr in (pmap.theta0, pmap.scale):
+        val = sp.nsimplify(expr).subs(sub) if expr.free_symbols - set(sub) == set() else None
+        if val is None or not val.is_Rational:
+            return None
+        out.append(Fraction(int(val.p), int(val.q)))
+    return tuple(out)
 
 
 

@@ -582,3 +582,125 @@ def exponent_at(X0, X1, want, w, info=None):
         return None
     return {"count": count, "e": e, "u": U, "part": part, "text": text, "depth": depth,
             "band": count % 2 == 1}
+
+
+# ---------------------------------------------------------------------------
+# characteristic values a_m(q), b_m(q) and the first band, proved by Sturm counts
+# ---------------------------------------------------------------------------
+
+def _pivots_logdiff(family, q, x, n, dq=False):
+    """Sum over the n x n truncation of p_i'/p_i (d/dx, or d/dq when dq) and the sign of
+    prod p_i, for the LDL^T pivots p_i of T(q) - x (floats or balls).  Newton steps on
+    det(T - x) are -sign/sum; no product is formed (no overflow in floats)."""
+    s = 0
+    p = dp = None
+    for i in range(n):
+        d = _diag(family, i, q)
+        dd = (1 if family == "a_odd" else -1 if family == "b_odd" else 0) if (i == 0 and dq) else 0
+        if not dq:
+            dd = -1
+        if i == 0:
+            p, dp = d - x, dd
+        else:
+            e2 = 2 * q * q if (family == "a_even" and i == 1) else q * q
+            de2 = (4 * q if (family == "a_even" and i == 1) else 2 * q) if dq else 0
+            if p == 0:
+                p = p + 1e-300 if isinstance(p, float) else p + arb(2) ** (-ctx.prec - 40)
+            r = e2 / p
+            p, dp = d - x - r, dd - (de2 - r * dp) / p
+        s = s + dp / p
+    return s
+
+
+def _newton_on_pivots(family, q, x, n, bits_list, var_is_q, start):
+    """Newton on det(T_n(q) - x) = 0 for x (var_is_q False) or q (True) at the
+    precisions ``bits_list``; returns (value, last step) as arb midpoints."""
+    v = arb(start)
+    delta = arb(0)
+    for bits in bits_list:
+        with _Prec(bits + 16):
+            vm = v.mid()
+            qq, xx = (vm, x()) if var_is_q else (q(), vm)
+            s = _pivots_logdiff(family, qq, xx, n, dq=var_is_q)
+            if s == 0 or not s.is_finite():
+                return None
+            delta = (1 / s).mid()
+            v = (vm - delta).mid()
+    return v, delta
+
+
+def _ladder(prec):
+    steps = []
+    p = prec
+    while p > 100:
+        steps.append(p)
+        p = p // 2 + 8
+    steps.reverse()
+    return [steps[0]] + steps if steps else [prec, prec]
+
+
+def char_value_at(family, j, Q, want, w):
+    """Certified ball of the j-th eigenvalue of ``family`` at q = Q (exact), to ``want``
+    digits at working precision w: (text, ball) or None."""
+    from pendulab.analyses.floquet._charvalues import _double_char_value, _family_size
+
+    qf = float(Q)
+    a0, centre = _double_char_value(family, j, qf)
+    prec = bits_of(w) + loss_bits(0.0, qf)
+    n = max(_family_size(j, qf, w + 5), centre + 3)
+
+    def qball():
+        return to_ball(Q)
+    got = _newton_on_pivots(family, qball, None, n, _ladder(prec), False, a0)
+    if got is None:
+        return None
+    a, delta = got
+    with _Prec(prec + 16):
+        q = qball()
+        scale = max(abs(a).upper(), arb(1))
+        ad = abs(delta).upper()
+        r0 = max(8 * ad * ad / scale, scale * arb(2) ** (16 - prec))
+        for r in (r0, r0 * arb(2) ** 20, max(8 * ad, r0 * arb(2) ** 40)):
+            lo, hi = arb((a - r).lower()), arb((a + r).upper())
+            if family_count(family, q, lo) == j and family_count(family, q, hi) == j + 1:
+                ball = lo.union(hi)
+                text = lam_text(ball, want)
+                return (text, ball) if text is not None else None
+    return None
+
+
+def band_end_at(family, X0, want, w, q_start, scale=None):
+    """Certified ball of the q > 0 where the lowest eigenvalue of ``family`` ("a_even":
+    a_0, "b_odd": b_1) equals theta0 = X0 (exact, < 1): (text, ball) or None.
+
+    Both curves decrease strictly in q > 0 (DLMF 28.2(v), 28.7), so the family's
+    count of eigenvalues below theta0 is 0 before the crossing and 1 after it;
+    counts 0 at q_lo and 1 at q_hi prove the crossing in [q_lo, q_hi]."""
+    from pendulab.analyses.floquet._charvalues import _family_size
+
+    qf = float(q_start)
+    prec = bits_of(w) + loss_bits(float(X0), qf)
+    n = _family_size(0, qf, w + 5) + 2
+
+    def xball():
+        return to_ball(X0)
+    got = _newton_on_pivots(family, None, xball, n, _ladder(prec), True, q_start)
+    if got is None:
+        return None
+    q, delta = got
+    with _Prec(prec + 16):
+        x = xball()
+        size = abs(q).upper()
+        ad = abs(delta).upper()
+        r0 = max(8 * ad * ad / size, size * arb(2) ** (16 - prec))
+        for r in (r0, r0 * arb(2) ** 20, max(8 * ad, r0 * arb(2) ** 40)):
+            lo, hi = arb((q - r).lower()), arb((q + r).upper())
+            if not lo > 0:
+                return None
+            if family_count(family, lo, x) == 0 and family_count(family, hi, x) == 1:
+                ball = lo.union(hi)
+                if scale is not None:   # a/l = q * (exact scale), the limits of a ParameterMap
+                    ball = ball * to_ball(scale)
+                text = lam_text(ball, want)
+                return (text, ball) if text is not None else None
+    return None

@@ -8,8 +8,31 @@ from pendulab.errors import ConvergenceError, InputError, PrecisionError
 from pendulab.analyses.floquet._bands import _edge_index, _family_diagonals, _tail_steps
 from pendulab.analyses.floquet._cf import _illinois
 from pendulab.analyses.floquet._inputs import (
-    DOUBLE_DPS, GUARD, SIZE_LIMIT, _check_dps, _check_size, _exact, _mp, _size_text,
+    DOUBLE_DPS, SIZE_LIMIT, _check_dps, _check_size, _exact, _mp, _size_text,
 )
+from pendulab.analyses.floquet._precision import agree, autoprec
+
+#: routes of the characteristic values and the first band: "arb" (ball arithmetic,
+#: every digit proved; the default when dps is given) and "mpmath" (the default in
+#: double precision, and the independent cross-check)
+VALUE_METHODS = ("arb", "mpmath")
+
+
+def _value_method(method, dps, name):
+    if method is None:
+        return "mpmath" if dps is None else "arb"
+    if method not in VALUE_METHODS:
+        raise InputError(f"{name}: method must be one of {', '.join(VALUE_METHODS)}, "
+                         f"got {method!r}")
+    return method
+
+
+def _certified(compute, want, what):
+    """The arb routes: ``compute(w)`` returns (text, ball) or None; the text (``want``
+    correctly rounded digits) read as an mpf at want + 10 digits."""
+    (text, _), _ = autoprec(compute, want, two=False, what=what)
+    with mpmath.workdps(want + 10):
+        return mpmath.mpf(text)
 
 
 def _family_of(kind, m):
@@ -76,7 +99,7 @@ def _char_value_mp(family, j, q, w, guess=None):
     return root
 
 
-def _char_value(kind, m, q, dps):
+def _char_value(kind, m, q, dps, method=None):
     name = f"mathieu_{kind}"
     if isinstance(m, bool) or not isinstance(m, int):
         raise InputError(f"{name}: order m must be an integer, got {m!r}")
@@ -85,6 +108,7 @@ def _char_value(kind, m, q, dps):
     if kind == "b" and m < 1:
         raise InputError(f"{name}: order m must be >= 1, got {m}")
     dps = _check_dps(dps)
+    method = _value_method(method, dps, name)
     Q = _exact(q, "q")
     _check_size(m * m, Q, SIZE_LIMIT, name, names=("m^2", "q"))
     want = DOUBLE_DPS if dps is None else dps
@@ -92,25 +116,26 @@ def _char_value(kind, m, q, dps):
     if Q == 0:
         val = mpmath.mpf(m * m)
         return float(val) if dps is None else val
-    w = want + GUARD
-    while True:
-        with mpmath.workdps(w):
-            v1 = _char_value_mp(family, j, _mp(Q), w)
-        with mpmath.workdps(w + 10):
-            v2 = _char_value_mp(family, j, _mp(Q), w + 10)
-            ok = abs(v1 - v2) <= mpmath.mpf(10) ** (-(want + 2)) * max(1, abs(v2))
-        if ok:
-            break
-        if w > 4 * want + 100:
-            raise PrecisionError(f"{name}({m}, {q}) not resolved to {want} digits")
-        w = 2 * w
+    what = f"{name}({m}, {q})"
+    if method == "arb":
+        from pendulab.analyses.floquet._arb import char_value_at
+        v = _certified(lambda w: char_value_at(family, j, Q, want, w), want, what)
+    else:
+        def compute(w):
+            with mpmath.workdps(w):
+                return _char_value_mp(family, j, _mp(Q), w)
+
+        def accept(a, b, w2):
+            with mpmath.workdps(w2):
+                return agree(a, b, want)
+        v, _ = autoprec(compute, want, accept=accept, what=what)
     if dps is None:
-        return float(v2)
+        return float(v)
     with mpmath.workdps(want):
-        return +v2
+        return +v
 
 
-def mathieu_a(m, q, dps=None):
+def mathieu_a(m, q, dps=None, method=None):
     """Characteristic value a_m(q) of w'' + (a - 2q cos 2z) w = 0 (DLMF 28.2(v)).
 
     Eigenvalue of the tridiagonal recurrence DLMF 28.4.5 (m even) or 28.4.6
@@ -120,70 +145,116 @@ def mathieu_a(m, q, dps=None):
     a_{2n+1}(-q) = b_{2n+1}(q), DLMF 28.2.26-28.2.27) and for |q| up to 1e4
     and beyond.  dps=None returns a float; otherwise an mpf with dps digits.
 
+    method: None (default: "arb" when dps is given, else "mpmath"), "arb" or
+    "mpmath".  "arb" proves every one of the dps digits: Newton on the
+    determinant of the truncated matrix in ball arithmetic, then two Sturm
+    counts of the *infinite* matrix on balls (module _arb) show a_m in
+    [lo, hi], and the digits are those both ends round to.  "mpmath" is the
+    route described above (bracketed continued fraction at two precisions).
+
     >>> round(mathieu_a(0, 1), 10)   # A&S Table 20.1: a_0(1) = -0.4551386041
     -0.4551386041
     """
-    return _char_value("a", m, q, dps)
+    return _char_value("a", m, q, dps, method)
 
 
-def mathieu_b(m, q, dps=None):
+def mathieu_b(m, q, dps=None, method=None):
     """Characteristic value b_m(q), m >= 1 (DLMF 28.2(v); recurrences 28.4.7-28.4.8).
 
     See :func:`mathieu_a`; b_{2n+1}(-q) = a_{2n+1}(q) and b_{2n+2}(-q) = b_{2n+2}(q).
     """
-    return _char_value("b", m, q, dps)
+    return _char_value("b", m, q, dps, method)
 
-def first_band(theta0, dps=None):
+class Limits(tuple):
+    """(lower, upper) with ``certified_digits``: the significant digits of each end
+    proved in ball arithmetic (None for the mpmath route and double precision)."""
+
+    certified_digits = None
+
+    def __new__(cls, pair, certified_digits=None):
+        obj = super().__new__(cls, pair)
+        obj.certified_digits = certified_digits
+        return obj
+
+
+def first_band(theta0, dps=None, method=None):
     """(lower, upper) |theta1| of the first stable band of 000 eq. 7 at a given theta0 < 1.
 
     The band is a_0(q) < theta0 < b_1(|q|) with |q| = |theta1| (DLMF 28.2(v);
     a_0 is even in q, b_1(|q|) = a_1(-|q|)): the lower end solves
-    a_0(q) = theta0 (0 when theta0 >= 0), the upper one b_1(q) = theta0, each
-    by Brent's method on the exact characteristic values.
+    a_0(q) = theta0 (0 when theta0 >= 0), the upper one b_1(q) = theta0.
+    method "mpmath" (the default in double precision): Brent's method on the
+    characteristic values at two working precisions; "arb" (the default with
+    dps): Newton in q on the determinant of the truncated matrix in ball
+    arithmetic, each end proved by two Sturm counts of the infinite matrix at
+    theta0 (count 0 at q_lo, 1 at q_hi; both curves decrease in q > 0), every
+    digit proved.  Returns a :class:`Limits` pair (``certified_digits``).
 
     >>> lo, up = first_band(-0.01)
     >>> round(lo, 10), round(up, 10)
     (0.1415759161, 0.9164371642)
     >>> round(mathieu_a(0, lo), 12), round(mathieu_b(1, up), 12)   # on the two curves
     (-0.01, -0.01)
+    >>> first_band("-1/100", dps=30).certified_digits
+    30
     """
     dps = _check_dps(dps)
+    method = _value_method(method, dps, "first_band")
     X0 = _exact(theta0, "theta0")
     if X0 >= 1:
         raise InputError(f"theta0 = {theta0} >= 1: the first stable band at theta0 >= 1 "
                          "is not the one that starts at theta1 = 0")
     if abs(X0) > SIZE_LIMIT:
         raise InputError(f"|theta0| = {_size_text(X0)} is too large (limit {SIZE_LIMIT:g})")
+    if method == "arb":
+        return _band_certified(X0, dps, f"first_band({theta0})")
     return _band_at_two_precisions(lambda ww: _first_band_mp(_mp(X0), ww), dps,
                                    f"first_band({theta0})")
+
+
+def _band_certified(X0, dps, what, scale=None):
+    """The arb route of the first band at exact theta0 = X0 (times the exact ``scale``)."""
+    from fractions import Fraction
+
+    from pendulab.analyses.floquet._arb import band_end_at
+    want = dps
+    with mpmath.workdps(20):
+        starts = _first_band_mp(_mp(X0), 20)
+    ends = []
+    for family, start in zip(("a_even", "b_odd"), starts):
+        if family == "a_even" and X0 >= 0:
+            ends.append(mpmath.mpf(0))
+            continue
+        if scale is None:
+            ends.append(_certified(lambda w: band_end_at(family, X0, want, w, start), want,
+                                   what))
+        else:
+            ends.append(_certified(lambda w: band_end_at(family, X0, want, w, start,
+                                                         Fraction(scale)), want, what))
+    with mpmath.workdps(want):
+        return Limits((+ends[0], +ends[1]), want)
 
 
 def _band_at_two_precisions(band, dps, what):
     """``band(ww)`` (a pair, computed at working precision ww) resolved to ``dps`` digits.
 
-    Computed at w and w + 10 digits (w = dps + GUARD, doubled until both agree
-    to dps + 2 digits); a float pair when ``dps`` is None.
+    Computed at w and w + STEP digits by the rule of _precision.autoprec until
+    both agree to dps + 2 digits; a float pair when ``dps`` is None.
     """
     want = DOUBLE_DPS if dps is None else dps
-    w = want + GUARD
-    while True:
-        res = []
-        for ww in (w, w + 10):
-            with mpmath.workdps(ww):
-                res.append(band(ww))
-        with mpmath.workdps(w + 10):
-            ok = all(abs(a - b) <= mpmath.mpf(10) ** (-(want + 2)) * max(1, abs(b))
-                     for a, b in zip(res[0], res[1]))
-        if ok:
-            break
-        if w > 4 * want + 100:
-            raise PrecisionError(f"{what} not resolved to {want} digits")
-        w *= 2
-    lower, upper = res[1]
+
+    def compute(ww):
+        with mpmath.workdps(ww):
+            return band(ww)
+
+    def accept(a, b, w2):
+        with mpmath.workdps(w2):
+            return agree(tuple(a), tuple(b), want)
+    (lower, upper), _ = autoprec(compute, want, accept=accept, what=what)
     if dps is None:
-        return float(lower), float(upper)
+        return Limits((float(lower), float(upper)))
     with mpmath.workdps(want):
-        return +lower, +upper
+        return Limits((+lower, +upper))
 
 
 def _first_band_mp(th0, w):
