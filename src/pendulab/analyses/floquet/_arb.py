@@ -46,7 +46,6 @@ import functools
 import math
 from fractions import Fraction
 
-import mpmath
 from flint import arb, ctx, fmpq, fmpz
 
 from pendulab.analyses.bessel_zeros import ball_digits
@@ -294,7 +293,7 @@ def _safe_newton(f, lo, hi, flo, fhi, u0, iters=60):
         if (fu > 0) == (flo > 0):
             lo, flo = u, fu
         else:
-            hi, fhi = u, fu
+            hi = u
         step = fu / du if du != 0 else math.inf
         if abs(step) <= 1e-13 * abs(u) or hi - lo <= 1e-13 * max(abs(u), 1e-300):
             return u - step if lo <= u - step <= hi else u
@@ -563,7 +562,6 @@ def exponent_at(X0, X1, want, w, info=None):
             info["u"] = 0.0
     if count is None:
         return None
-    x0f, x1f = float(X0), float(X1)
     g = guess(X0, X1, count)
     e, u0 = g
     info["e"], info["u"] = e, u0

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import mpmath
 
-from pendulab.errors import ConvergenceError, InputError, PrecisionError
+from pendulab.errors import ConvergenceError, InputError
 from pendulab.analyses.floquet._bands import _edge_index, _family_diagonals, _tail_steps
 from pendulab.analyses.floquet._cf import _illinois
 from pendulab.analyses.floquet._inputs import (

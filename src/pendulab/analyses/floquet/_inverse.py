@@ -6,12 +6,13 @@ from fractions import Fraction
 
 import mpmath
 
-from pendulab.errors import ConvergenceError, InputError, PrecisionError
+from pendulab.errors import ConvergenceError, InputError
 from pendulab.analyses.floquet._cf import _CF, _illinois
 from pendulab.analyses.floquet._charvalues import _char_value_mp, _family_of, mathieu_a
 from pendulab.analyses.floquet._inputs import (
     DOUBLE_DPS, GUARD, SIZE_LIMITS, _check_dps, _check_size, _exact, _is_array, _mp,
 )
+from pendulab.analyses.floquet._precision import agree, autoprec
 from pendulab.analyses.floquet._vectorised import _theta0_of_exponent_array
 
 
@@ -63,20 +64,16 @@ def theta0_of_exponent(nu, theta1, dps=None):
         return mathieu_a(int(NU), -X1 if isinstance(X1, Fraction) else -X1, dps)
 
     absq = abs(X1)
-    w = want + GUARD
-    while True:
-        vals = [_theta0_of_exponent_mp(NU, X1, absq, ww) for ww in (w, w + 10)]
-        with mpmath.workdps(w + 10):
-            if abs(vals[0] - vals[1]) <= mpmath.mpf(10) ** (-(want + 2)) * max(1, abs(vals[1])):
-                break
-        if w > 4 * want + 100:
-            raise PrecisionError(f"theta0_of_exponent({nu}, {theta1}) not resolved to "
-                                 f"{want} digits within {w + 10} working digits")
-        w *= 2
+
+    def accept(a, b, w2):
+        with mpmath.workdps(w2):
+            return agree(a, b, want)
+    v, _ = autoprec(lambda ww: _theta0_of_exponent_mp(NU, X1, absq, ww), want, accept=accept,
+                    what=f"theta0_of_exponent({nu}, {theta1})")
     if dps is None:
-        return float(vals[1])
+        return float(v)
     with mpmath.workdps(want):
-        return +vals[1]
+        return +v
 
 
 def _theta0_of_exponent_mp(NU, X1, absq, ww):
