@@ -177,8 +177,10 @@ def produce(ctx, options):
     elif ratio_sym.is_Rational and ratio_sym > 0:
         limits = []
         for r in ratios:
-            lo, up = map_limits(pmap, {"w0_over_w": r}, dps=dps, what=f"floquet limits at {r}")
-            limits.append({"ratio": r, "lower": number_text(lo, dps), "upper": number_text(up, dps)})
+            lim = map_limits(pmap, {"w0_over_w": r}, dps=dps, what=f"floquet limits at {r}")
+            limits.append({"ratio": r, "lower": number_text(lim[0], dps),
+                           "upper": number_text(lim[1], dps),
+                           "certified_digits": getattr(lim, "certified_digits", None)})
     doc = {
         "source": "000_8cba66c4fdf94ac6.txt eqs. 5-10; DLMF 28.2, 28.4",
         "dps": dps,

@@ -279,6 +279,11 @@ def _arb_exponent(X0, X1, dps, want, max_dps, theta0, theta1):
     with mpmath.workdps(want + GUARD):
         part = mpmath.mpf(text)
         lam = part if res["band"] else mpmath.mpc(e, part)
-    lam_out, mults = _finish(lam, dps, want)
+        # the multipliers from the midpoint of the ball (want + GUARD digits), not from
+        # the rounded lam, as the mpmath routes do
+        mid = mpmath.mpf(res["part"].mid().str(want + GUARD + 5, radius=False))
+        lam_mid = mid if res["band"] else mpmath.mpc(e, mid)
+    lam_out, _ = _finish(lam, dps, want)
+    _, mults = _finish(lam_mid, dps, want)
     return FloquetResult(lam_out, mults, res["band"], False, int(res["depth"]), "arb", dps,
                          int(w), int(e), want if dps is not None else None)
