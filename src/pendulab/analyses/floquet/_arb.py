@@ -537,6 +537,29 @@ def _prove(X0, X1, count, e, band, um, ad, r0, prec, x0f, x1f):
         return None
 
 
+def to_mpf(x):
+    """The midpoint of an arb as an mpmath mpf (exact: mantissa and exponent)."""
+    import mpmath
+    man, exp = x.mid().man_exp()
+    return mpmath.mpf((int(man), int(exp)))
+
+
+def multipliers(part, e, band, digits):
+    """(exp(i pi lam), exp(-i pi lam)) as mpc at ``digits`` from the ball ``part``: lam
+    itself in a band, mu with lam = e + i mu in a gap."""
+    import mpmath
+    with _Prec(bits_of(digits) + 8):
+        if band:
+            s, c = part.sin_cos_pi()
+            vals = [(c, s), (c, -s)]
+        else:
+            sign = -1 if e % 2 else 1
+            g = (arb.pi() * part).exp()
+            vals = [(sign / g, arb(0)), (sign * g, arb(0))]
+        with mpmath.workdps(digits):
+            return tuple(mpmath.mpc(to_mpf(a), to_mpf(b)) for a, b in vals)
+
+
 def lam_text(ball, digits):
     """The ``digits``-digit decimal of a ball when both ends round alike, else None."""
     if ball.is_zero():

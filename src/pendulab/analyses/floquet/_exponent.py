@@ -279,11 +279,14 @@ def _arb_exponent(X0, X1, dps, want, max_dps, theta0, theta1):
     with mpmath.workdps(want + GUARD):
         part = mpmath.mpf(text)
         lam = part if res["band"] else mpmath.mpc(e, part)
-        # the multipliers from the midpoint of the ball (want + GUARD digits), not from
-        # the rounded lam, as the mpmath routes do
-        mid = mpmath.mpf(res["part"].mid().str(want + GUARD + 5, radius=False))
-        lam_mid = mid if res["band"] else mpmath.mpc(e, mid)
-    lam_out, _ = _finish(lam, dps, want)
-    _, mults = _finish(lam_mid, dps, want)
+    # the multipliers exp(+-i pi lam) from the ball (arb), at want + GUARD digits, read
+    # through their midpoints (as the mpmath routes do, from lam at the working precision)
+    m1, m2 = _arb.multipliers(res["part"], e, res["band"], want + GUARD)
+    if dps is None:
+        lam_out = float(lam) if res["band"] else complex(lam)
+        mults = (complex(m1), complex(m2))
+    else:
+        with mpmath.workdps(want):
+            lam_out, mults = +lam, (+m1, +m2)
     return FloquetResult(lam_out, mults, res["band"], False, int(res["depth"]), "arb", dps,
                          int(w), int(e), want if dps is not None else None)
