@@ -29,8 +29,17 @@ Conventions used throughout
   integer), which is a well-conditioned quantity even when lam sits at an
   edge; lam = e +- sqrt(u).  u > 0: stable, u < 0: unstable.
 
-Three independent methods (``method=``)
----------------------------------------
+Routes (``method=``)
+--------------------
+"arb"       (the default when dps is given) ball arithmetic, module ``_arb``: the
+            band by Sturm counts of the infinite DLMF 28.4 matrices decided on
+            balls, u by Newton on the "cf" function (one kernel for floats and
+            balls, in the algebra a + b t, t^2 = u), proved by a sign change with
+            the continued-fraction tails enclosed; ``certified_digits`` says how
+            many digits of lam are proved.  mathieu_a/b, first_band and the
+            limits have the same route (method "arb"; "mpmath" is the route below).
+
+The three independent mpmath methods:
 "cf"        the source's continued fractions (000 sec. 2.2): the recurrence is
             closed by the minimal-solution continued fractions on both sides
             of a central block and the determinant of that block, an even
@@ -49,11 +58,12 @@ Three independent methods (``method=``)
             w_I(pi) = 2 w_I(pi/2) w_II'(pi/2) - 1 (a consequence of the even,
             pi-periodic coefficient; DLMF 28.2(iv)).
 
-Precision: mpmath precision is set per call with ``mpmath.workdps``; each
-answer is computed at two working precisions and accepted only when they
-agree to the digits asked; otherwise the working precision grows (up to
-``max_dps``), and :class:`~pendulab.errors.PrecisionError` is raised if that
-is not enough.
+Precision: one rule for every route (``_precision.autoprec``): start at
+dps + 10 digits, double the digits beyond dps, up to ``max_dps`` (default
+4 dps + 60).  The mpmath routes compute each answer at two working
+precisions and accept it when they agree to the digits asked; the arb route
+accepts it when its proof succeeds.  Otherwise
+:class:`~pendulab.errors.PrecisionError` is raised (one line).
 
 Layout (one module per method, on the model of scipy.integrate._ivp)
 -------------------------------------------------------------------
@@ -66,6 +76,8 @@ Layout (one module per method, on the model of scipy.integrate._ivp)
 ``_charvalues``  mathieu_a, mathieu_b, first_band
 ``_inverse``     theta0_of_exponent
 ``_vectorised``  exponent, is_stable, trace_monodromy on arrays (double precision)
+``_arb``         method "arb": certified exponent, characteristic values, first band
+``_precision``   autoprec, the one adaptive-precision rule
 
 The inverted pendulum's limits and map (stability_limits, map_limits,
 stability_map, map_stability) read the canonical stage through a
