@@ -233,6 +233,43 @@ def cf_kernel(u, x0, x1, M, T, tails=None, deriv=True, rescale=False):
     return pa, pb, dpa
 
 
+def cf_kernel_t(t, x0, x1, M, T, tails=None, deriv=True):
+    """The same block determinant as :func:`cf_kernel` at real t (u = t^2 >= 0), in plain
+    real arithmetic (about half the operations): returns (g(t), dg/dt); f_e(u) = g(t),
+    df/du = g'(t)/(2t).  Used where t is not small (the band's Newton steps and the
+    proof at u > 0); ``tails`` = (right, left) balls enclosing the neglected ratios."""
+    zero = t * 0
+    r, l = (zero, zero) if tails is None else tails
+    dr = dl = zero
+    x12 = x1 * x1
+    for side, ms in ((0, range(M + 2 * T, M, -2)), (1, range(-M - 2 * T, -M, 2))):
+        a, da = (r, dr) if side == 0 else (l, dl)
+        for m in ms:
+            s = m + t
+            D = x0 - s * s + x1 * a
+            if deriv:
+                da = x1 * (x1 * da - 2 * s) / (D * D)
+            a = -x1 / D
+        if side == 0:
+            r, dr = a, da
+        else:
+            l, dl = a, da
+    q = dq = None
+    p, dp = 1 + zero, zero
+    for m in range(-M, M + 1, 2):
+        s = m + t
+        d, dd = x0 - s * s, -2 * s
+        if m == -M:
+            d, dd = d + x1 * l, dd + x1 * dl
+        if m == M:
+            d, dd = d + x1 * r, dd + x1 * dr
+        if q is None:
+            q, dq, p, dp = p, dp, d, dd
+            continue
+        p, q, dp, dq = d * p - x12 * q, p, (dd * p + d * dp - x12 * dq) if deriv else zero, dp
+    return p, dp
+
+
 def _depths(x0f, x1f, e, digits):
     return _depths_cached(x0f, x1f, e, int(digits) + 1)
 
@@ -393,9 +430,8 @@ def _value_ball(u, x0, x1, M, T):
     if not _tail_ok(M + 2 * T + 2, u, x0, x1):
         return None
     if u > 0 or u == 0:
-        disk = (arb(0, 1), arb(0))
-        A, B, _ = cf_kernel(u, x0, x1, M, T, tails=(disk, disk), deriv=False)
-        return A + B * u.sqrt()
+        g, _ = cf_kernel_t(u.sqrt(), x0, x1, M, T, tails=(arb(0, 1), arb(0, 1)), deriv=False)
+        return g
     s = (-u).sqrt()
     disk = (arb(0, 1), arb(0, (1 / s).upper()))
     A, _, _ = cf_kernel(u, x0, x1, M, T, tails=(disk, disk), deriv=False)
@@ -409,7 +445,10 @@ def _log2(x):
     return -10 ** 9 if man == 0 else int(exp) + man.bit_length()
 
 
-def _newton_steps(X0, X1, e, u, prec, x0f, x1f):
+_T_SMALL = 2.0 ** -20   # below it (t < 1e-3) the derivative in t loses too many digits
+
+
+def _newton_steps(X0, X1, e, u, prec, x0f, x1f, ladder=True):
     """Newton on f_e from u at doubling precision up to ``prec`` bits.  Returns
     (u, last step, rounding uncertainty of u in bits) or None.
 
@@ -417,12 +456,12 @@ def _newton_steps(X0, X1, e, u, prec, x0f, x1f):
     has ~50 correct bits); further steps at ``prec`` follow only when the last
     one was not already below half the digits."""
     extra = loss_bits(x0f, x1f)
-    ladder = []
+    steps = []
     p = (prec - extra) // 2 + 8
-    while p > 100:
-        ladder.append(p + extra)
+    while ladder and p > 100:
+        steps.append(p + extra)
         p = p // 2 + 8
-    ladder.reverse()
+    steps.reverse()
     delta = lost = dA = None
 
     def step(bits, u, dA):
@@ -430,17 +469,20 @@ def _newton_steps(X0, X1, e, u, prec, x0f, x1f):
             x0, x1 = to_ball(X0), to_ball(X1)
             M, T = _depths(x0f, x1f, e, bits / 3.32 + 2)
             um = u.mid()
-            if dA is None:
-                A, _, dA = cf_kernel(um, x0, x1, M, T)
+            if um > _T_SMALL:
+                # t = sqrt(u) not small: real arithmetic in t, df/du = g'(t)/(2t)
+                t = um.sqrt()
+                A, dg = cf_kernel_t(t, x0, x1, M, T)
+                dA = dg / (2 * t)
             else:
-                A, _, _ = cf_kernel(um, x0, x1, M, T, deriv=False)
+                A, _, dA = cf_kernel(um, x0, x1, M, T)
             if dA == 0 or not A.is_finite() or not dA.is_finite():
                 return None
             delta = (A / dA).mid()
             lost = _log2(A.rad()) - _log2(abs(dA).abs_lower()) if A.rad() != 0 else None
             return (um - delta).mid(), delta, lost, dA
 
-    for bits in ladder:
+    for bits in steps:
         got = step(bits, u, None)
         if got is None:
             return None
@@ -481,7 +523,8 @@ def certify(X0, X1, count, e, u0, want, info=None):
     u = arb(u0) if not isinstance(u0, arb) else u0
     target = None   # log2 of the uncertainty of u wanted: |u| 2^(16 - prec)
     for attempt in range(2):
-        got = _newton_steps(X0, X1, e, u, prec, x0f, x1f)
+        # a second attempt starts from a u already good to the first precision
+        got = _newton_steps(X0, X1, e, u, prec, x0f, x1f, ladder=attempt == 0)
         if got is None:
             return None
         u, delta, lost = got
