@@ -224,6 +224,20 @@ def test_cf_kernel_is_the_derived_characteristic_equation(u):
         assert abs(dval - mpmath.re(dref)) < 1e-28 * (1 + abs(dref))
         dref2 = det(lam, x0, x1)
         assert abs(val2 - mpmath.re(dref2)) < 1e-28 * (1 + abs(dref2))
+        # the real-t kernel (band Newton steps and the proof): g(t) and dg/dt, t = lam;
+        # with complex balls at t = i s (the proof in a gap)
+        with _arb._Prec(140):
+            if uu >= 0:
+                g, dg = _arb.cf_kernel_t(ub.sqrt(), x0b, x1b, 0, N)
+                gv = mpmath.mpf(g.mid().str(35, radius=False))
+                dgv = mpmath.mpf(dg.mid().str(35, radius=False))
+                assert abs(dgv - mpmath.re(deq(lam, x0, x1))) < 1e-28 * (1 + abs(dgv))
+            else:
+                t = _arb.acb(0, (-ub).sqrt())
+                g, _ = _arb.cf_kernel_t(t, _arb.acb(x0b), _arb.acb(x1b), 0, N, deriv=False)
+                assert abs(g.imag).upper() < _arb.arb(10) ** -30 * (1 + abs(g.real).upper())
+                gv = mpmath.mpf(g.real.mid().str(35, radius=False))
+        assert abs(gv - mpmath.re(ref)) < 1e-30 * (1 + abs(ref))
         # the same kernel in floats (the guess) agrees to double precision
         fA, fB, _ = _arb.cf_kernel(float(u), -0.3, 0.7, 0, N)
         tf = float(abs(uu)) ** 0.5 if uu >= 0 else 0.0

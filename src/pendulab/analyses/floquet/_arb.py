@@ -46,7 +46,7 @@ import functools
 import math
 from fractions import Fraction
 
-from flint import arb, ctx, fmpq, fmpz
+from flint import acb, arb, ctx, fmpq, fmpz
 
 from pendulab.analyses.bessel_zeros import ball_digits
 from pendulab.analyses.floquet._bands import FAMILIES, _edge_index, _tail_steps
@@ -432,10 +432,12 @@ def _value_ball(u, x0, x1, M, T):
     if u > 0 or u == 0:
         g, _ = cf_kernel_t(u.sqrt(), x0, x1, M, T, tails=(arb(0, 1), arb(0, 1)), deriv=False)
         return g
-    s = (-u).sqrt()
-    disk = (arb(0, 1), arb(0, (1 / s).upper()))
-    A, _, _ = cf_kernel(u, x0, x1, M, T, tails=(disk, disk), deriv=False)
-    return A
+    # u < 0: t = i s; complex balls (the tail disk |r| <= 1 as a complex ball; in the
+    # a + b t basis it would need |b| <= 1/s, wide next to an edge); f is the real part
+    t = acb(0, (-u).sqrt())
+    disk = acb(arb(0, 1), arb(0, 1))
+    g, _ = cf_kernel_t(t, acb(x0), acb(x1), M, T, tails=(disk, disk), deriv=False)
+    return g.real
 
 
 def _log2(x):
@@ -497,7 +499,7 @@ def _newton_steps(X0, X1, e, u, prec, x0f, x1f, ladder=True):
             small = abs(delta) <= (abs(u) + arb(2) ** (-prec // 3)) * arb(2) ** (8 - (prec - extra) // 2)
         if small:
             break
-    return u, delta, lost
+    return u, delta, lost, abs(dA).abs_lower()
 
 
 def is_tiny(u, digits):
@@ -527,7 +529,7 @@ def certify(X0, X1, count, e, u0, want, info=None):
         got = _newton_steps(X0, X1, e, u, prec, x0f, x1f, ladder=attempt == 0)
         if got is None:
             return None
-        u, delta, lost = got
+        u, delta, lost, slope = got
         if info is not None:
             info["u"] = u
         with _Prec(prec + 16):
@@ -545,20 +547,23 @@ def certify(X0, X1, count, e, u0, want, info=None):
                 return None
             ad = abs(delta).upper()
             r0 = max(8 * ad * ad, arb(2) ** (target - 8 if lost is None else lost + 4))
-        return _prove(X0, X1, count, e, band, um, ad, r0, prec, x0f, x1f)
+        return _prove(X0, X1, count, e, band, um, ad, r0, prec, x0f, x1f, slope)
     return None
 
 
-def _prove(X0, X1, count, e, band, um, ad, r0, prec, x0f, x1f):
-    """The sign-change proof around um (start half-width r0, last Newton step ad)."""
+def _prove(X0, X1, count, e, band, um, ad, r0, prec, x0f, x1f, slope):
+    """The sign-change proof around um: start half-width r0 (last Newton step ad, |f'|
+    about ``slope``).  A ball f containing 0 widens the bracket to what its radius asks
+    (16 rad / slope); if the bracket was that wide already, the tail is doubled once
+    (the disk contracts more slowly than the fraction converges when |theta1| is
+    large); equal signs at both ends (the root outside) widen it by 2^10."""
     with _Prec(prec + 16):
         x0, x1 = to_ball(X0), to_ball(X1)
         M, T = _depths(x0f, x1f, e, prec / 3.32 + 2)
-        # a ball f containing 0 means too narrow a bracket or too short a tail (the disk
-        # contracts more slowly than the fraction converges when |theta1| is large)
-        T0 = T + T // 4 + 2
-        for r, T in ((r0, T0), (r0, 2 * T0), (r0 * arb(2) ** 20, 2 * T0),
-                     (max(8 * ad, r0 * arb(2) ** 40), 2 * T0)):
+        T = T + T // 4 + 2
+        r = r0
+        doubled = False
+        for _ in range(5):
             lo, hi = (um - r).lower(), (um + r).upper()
             if hi >= 1:
                 return None
@@ -577,6 +582,16 @@ def _prove(X0, X1, count, e, band, um, ad, r0, prec, x0f, x1f):
                     lam = (count - 1) // 2 + t if e == (count - 1) // 2 else e - t
                     return lam, U, M // 2 + T
                 return (-U).sqrt(), U, M // 2 + T
+            if (flo > 0 or flo < 0) and (fhi > 0 or fhi < 0):
+                r = max(r * 1024, 8 * ad)
+                continue
+            need = (16 * max(flo.rad(), fhi.rad()) / slope).upper() if slope > 0 else 1024 * r
+            if need > r:
+                r = need          # rounding: a wider bracket clears it
+            elif not doubled:
+                T, doubled = 2 * T, True   # the bracket was wide enough: the tail
+            else:
+                r = r * 1024
         return None
 
 
