@@ -396,6 +396,9 @@ def guess(X0, X1, count):
         return best[1], 0.0
     k = count // 2
     f = fv(k)
+    u = _plain_newton(f, 0.0, -1e12, 0.0)
+    if u is not None:
+        return k, u
     f0, d0 = f(0.0)
     if f0 == 0 or (d0 and abs(f0 / d0) < 1e-12):
         return k, 0.0   # within rounding of the edge: the arb Newton goes on from there
@@ -476,6 +479,11 @@ def _newton_steps(X0, X1, e, u, prec, x0f, x1f, ladder=True):
                 t = um.sqrt()
                 A, dg = cf_kernel_t(t, x0, x1, M, T)
                 dA = dg / (2 * t)
+            elif um < -_T_SMALL:
+                # t = i sqrt(-u): complex balls, f = Re g(t), df/du = Re g'(t)/(2t)
+                t = acb(0, (-um).sqrt())
+                g, dg = cf_kernel_t(t, acb(x0), acb(x1), M, T)
+                A, dA = g.real, (dg / (2 * t)).real
             else:
                 A, _, dA = cf_kernel(um, x0, x1, M, T)
             if dA == 0 or not A.is_finite() or not dA.is_finite():
@@ -547,6 +555,8 @@ def certify(X0, X1, count, e, u0, want, info=None):
                 return None
             ad = abs(delta).upper()
             r0 = max(8 * ad * ad, arb(2) ** (target - 8 if lost is None else lost + 4))
+        if not band:
+            r0 = r0 * 256   # complex balls of the gap's proof are wider than the Newton's
         return _prove(X0, X1, count, e, band, um, ad, r0, prec, x0f, x1f, slope)
     return None
 
