@@ -80,7 +80,27 @@ def test_product_is_deterministic_and_correct(tmp_path, capsys):
     with mpmath.workdps(25):
         assert abs(mpmath.mpf(doc["limits"][0]["lower"]) - lo) < 1e-19
         assert abs(mpmath.mpf(doc["limits"][0]["upper"]) - up) < 1e-19
+    # the default route proves its digits and says so, for points and limits
+    assert doc["method"] == "arb"
+    assert [p["certified_digits"] for p in doc["points"]] == [20, 20]
+    assert doc["limits"][0]["certified_digits"] == 20
+    # the mpmath limits at 30 digits agree with the certified 20
+    ref = stability_limits("0.1", "4/3", dps=30, method="mpmath")
+    with mpmath.workdps(35):
+        for key, r in zip(("lower", "upper"), ref):
+            assert abs(mpmath.mpf(doc["limits"][0][key]) - r) <= 5e-20 * r
     capsys.readouterr()
+
+
+def test_text_output_says_what_is_certified(capsys):
+    code, out, _ = run(capsys, "floquet", "--theta0", "-0.002", "--theta1", "0.2", "--dps", "25")
+    assert code == 0 and "(arb, 25 digits" in out
+    assert "certified   = 25 significant digits of lambda proved" in out
+    code, out, _ = run(capsys, "floquet", "--theta0", "-0.002", "--theta1", "0.2", "--dps", "25",
+                       "--method", "hill")
+    assert code == 0 and "certified   = no" in out
+    code, out, _ = run(capsys, "floquet", "--theta0", "-0.002", "--theta1", "0.2")
+    assert code == 0 and "(hill, double precision" in out and "certified   = no" in out
 
 
 def test_product_bad_point_writes_nothing(tmp_path, capsys):
