@@ -116,6 +116,19 @@ def test_on_a_curve_beyond_max_dps_is_on_boundary():
     assert r.on_boundary and not r.stable and r.lam == 0 and r.certified_digits is None
 
 
+def test_unreachable_precision_is_one_line():
+    # 1e-45 above a_0(0.2): at most 40 working digits cannot tell the side, and
+    # |u| ~ 1e-45 is not below 10^-(2 dps): a PrecisionError, not "on the curve"
+    with mpmath.workdps(110):
+        t0 = mpmath.nstr(mathieu_a(0, "0.2", dps=105, method="mpmath") + mpmath.mpf("1e-45"), 100)
+    from pendulab.errors import PrecisionError
+    with pytest.raises(PrecisionError) as exc:
+        characteristic_exponent(t0, "-0.2", dps=25, max_dps=40)
+    assert "method 'arb'" in str(exc.value) and "\n" not in str(exc.value)
+    r = characteristic_exponent(t0, "-0.2", dps=25)      # the default ceiling resolves it
+    assert r.stable and not r.on_boundary and r.certified_digits == 25
+
+
 def test_huge_q_is_certified_and_agrees_with_hill():
     r = characteristic_exponent("-0.01", "1.49e4", dps=30)
     h = characteristic_exponent("-0.01", "1.49e4", dps=30, method="hill")

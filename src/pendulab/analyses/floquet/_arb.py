@@ -650,7 +650,8 @@ def exponent_at(X0, X1, want, w, info=None):
             # c and c + 1 (a_0 < b_1 < a_1 < b_2 ... for q > 0), of edge (c + 1) // 2
             c = band_count(x0.mid(), x1.mid())
             info["e"] = (c + 1) // 2 if c is not None else int(round(math.sqrt(max(float(X0), 0))))
-            info["u"] = 0.0
+            # the distance to the curve is below the balls' width, ~10^-w: so is |u|
+            info["u"] = 10.0 ** -w if w < 300 else 0.0
     if count is None:
         return None
     g = guess(X0, X1, count)

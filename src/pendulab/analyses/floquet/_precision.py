@@ -34,18 +34,19 @@ def default_max_dps(want):
     return 4 * want + 60
 
 
-def precisions(want, max_dps):
+def precisions(want, max_dps, reach=STEP):
     """The working precisions w (decimal digits) tried for ``want`` digits, in order.
 
     w0 = want + GUARD, then w -> max(w + STEP, 2 w - want), capped so that
-    w + STEP <= max_dps; at least w0 is always tried.
+    w + reach <= max_dps (reach = STEP when a second precision w + STEP is
+    computed beside w, 0 for the ball-arithmetic route); at least w0 is tried.
     """
     w = want + GUARD
     while True:
         yield w
-        if w + 2 * STEP > max_dps:
+        if w + reach + STEP > max_dps:
             return
-        w = min(max(w + STEP, 2 * w - want), max_dps - STEP)
+        w = min(max(w + STEP, 2 * w - want), max_dps - reach)
 
 
 def autoprec(compute, want, max_dps=None, accept=None, exhausted=None, what="the answer",
@@ -62,7 +63,7 @@ def autoprec(compute, want, max_dps=None, accept=None, exhausted=None, what="the
     if max_dps is None:
         max_dps = default_max_dps(want)
     last = None
-    for w in precisions(want, max_dps):
+    for w in precisions(want, max_dps, STEP if two else 0):
         if two:
             a = compute(w)
             b = compute(w + STEP)
