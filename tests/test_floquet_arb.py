@@ -135,8 +135,11 @@ def test_huge_q_is_certified_and_agrees_with_hill():
     assert r.certified_digits == 30 and r.stable == h.stable and r.band_edge == h.band_edge
     with mpmath.workdps(40):
         assert abs(r.lam - h.lam) < mpmath.mpf(10) ** -28 * abs(h.lam)
-    with pytest.raises(InputError, match="too large"):
-        characteristic_exponent("-0.01", "2e4", dps=30)
+    with pytest.raises(InputError, match="too large for method 'arb'"):
+        characteristic_exponent("-0.01", "2e4", dps=30, method="arb")
+    # beyond the ball route's size the default with dps is Hill's determinant, as before
+    big = characteristic_exponent("-0.01", "1e5", dps=20)
+    assert big.method == "hill" and big.certified_digits is None
 
 
 # -- characteristic values and the band -----------------------------------------------

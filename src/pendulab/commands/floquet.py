@@ -43,7 +43,9 @@ def run(args):
     if args.dps is not None:
         limits.check("floquet.dps", args.dps, label="--dps")
     if args.method is None:
-        args.method = "hill" if args.dps is None else "arb"
+        from pendulab.analyses.floquet._exponent import default_method
+        args.method = default_method(_exact(args.theta0, "theta0"), _exact(args.theta1, "theta1"),
+                                     args.dps)
     # the numbers and the method's size limit first (their own messages), then the work
     _check_size(_exact(args.theta0, "theta0"), _exact(args.theta1, "theta1"),
                 SIZE_LIMITS[args.method], f"method {args.method!r}")

@@ -128,7 +128,8 @@ def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None)
         mpf.  Strings and fractions are exact and rounded afresh at each working
         precision.
     dps : decimal digits wanted (None: double precision, plain float/complex out).
-    method : None (default: "arb" when dps is given, else "hill"), "arb" (ball
+    method : None (default: "arb" when dps is given and |theta0| + 2|theta1| is
+        within SIZE_LIMITS["arb"], else "hill"), "arb" (ball
         arithmetic: every digit of lam proved, ``certified_digits`` says how
         many), or one of the independent mpmath routes "hill", "cf",
         "monodromy" -- all four agree to the digits asked.
@@ -147,15 +148,15 @@ def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None)
     >>> characteristic_exponent("-0.002", "0.2", dps=30).certified_digits
     30
     """
-    if method is None:
-        method = "hill" if dps is None else "arb"
-    if method not in METHODS:
+    if method is not None and method not in METHODS:
         raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     if _is_array(theta0) or _is_array(theta1):
         raise InputError("characteristic_exponent takes scalars; for arrays use "
                          "exponent(theta0, theta1) (vectorised, double precision)")
     dps = _check_dps(dps)
     X0, X1 = _exact(theta0, "theta0"), _exact(theta1, "theta1")
+    if method is None:
+        method = default_method(X0, X1, dps)
     want = DOUBLE_DPS if dps is None else dps
     if max_dps is None:
         max_dps = 4 * want + 60
@@ -226,6 +227,14 @@ def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None)
     lam_out, mults = _finish(lam, dps, want)
     return FloquetResult(lam_out, mults, bool(stable), bool(on_b), int(depth), method,
                          dps, int(w2), int(e))
+
+
+def default_method(X0, X1, dps):
+    """The route used when none is named: "arb" with dps (up to its size limit
+    |theta0| + 2|theta1| <= SIZE_LIMITS["arb"]), "hill" in double precision and beyond."""
+    if dps is not None and abs(X0) + 2 * abs(X1) <= SIZE_LIMITS["arb"]:
+        return "arb"
+    return "hill"
 
 
 def _free(X0, dps, want, method):
