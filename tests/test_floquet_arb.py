@@ -189,6 +189,15 @@ def test_first_band_certified_against_mpmath_and_on_the_curves(theta0):
             assert lo == 0
 
 
+def test_arb_in_double_precision_gives_floats():
+    band = first_band("-0.01", method="arb")
+    assert band.certified_digits is None and all(isinstance(x, float) for x in band)
+    assert band == pytest.approx(first_band("-0.01"), rel=1e-15)
+    assert mathieu_a(0, 1, method="arb") == pytest.approx(mathieu_a(0, 1), rel=1e-15)
+    r = characteristic_exponent("-0.002", "0.2", method="arb")
+    assert isinstance(r.lam, float) and r.certified_digits is None
+
+
 def test_stability_limits_certified_at_200_digits():
     lim = stability_limits("1/10", 1, dps=200)
     ref = stability_limits("1/10", 1, dps=200, method="mpmath")

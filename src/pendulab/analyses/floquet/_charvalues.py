@@ -217,7 +217,7 @@ def _band_certified(X0, dps, what, scale=None):
     from fractions import Fraction
 
     from pendulab.analyses.floquet._arb import band_end_at
-    want = dps
+    want = DOUBLE_DPS if dps is None else dps
     with mpmath.workdps(20):
         starts = _first_band_mp(_mp(X0), 20)
     ends = []
@@ -231,6 +231,8 @@ def _band_certified(X0, dps, what, scale=None):
         else:
             ends.append(_certified(lambda w: band_end_at(family, X0, want, w, start,
                                                          Fraction(scale)), want, what))
+    if dps is None:   # double precision: floats, the proof at 16 digits is not claimed
+        return Limits((float(ends[0]), float(ends[1])))
     with mpmath.workdps(want):
         return Limits((+ends[0], +ends[1]), want)
 
