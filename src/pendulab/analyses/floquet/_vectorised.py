@@ -328,3 +328,245 @@ def trace_monodromy(theta0, theta1):
         cs = np.where(s == 0, 1.0, -1.0)
         y = cs + delta * (cr - cs)
     return (2.0 * y).reshape(shape)
+
+
+# ---------------------------------------------------------------------------
+# Certified characteristic values for many |q| at once (the map's boundaries)
+# ---------------------------------------------------------------------------
+
+#: unit roundoff of IEEE double precision
+_U = 2.0 ** -53
+
+
+def _diag_base(family, n):
+    """Row j's diagonal (2j)^2, (2j+1)^2 or (2j+2)^2 of a DLMF 28.4 family (exact floats)."""
+    import numpy as np
+
+    j = np.arange(n, dtype=float)
+    off = {"a_even": 0.0, "a_odd": 1.0, "b_odd": 1.0, "b_even": 2.0}[family]
+    return (2.0 * j + off) ** 2
+
+
+def _family_rows(fams, q, n, side=0):
+    """Diagonals (n, M) and squared off-diagonals (n-1, M) of the DLMF 28.4
+    matrices (see :func:`_family_diagonals`), one column per (family, q) pair:
+    ``fams`` (M,) indexes FAMILIES, ``q`` (M,) the q of each column.
+
+    ``side`` = +1 / -1 rounds the one inexact diagonal entry (1 +- q of the odd
+    families) up / down, so that the float matrix is >= / <= the exact one in
+    the Loewner order; -1 also lowers the last diagonal entry by |q| (the
+    coupling to the neglected tail, see :func:`_certify_edges`)."""
+    import numpy as np
+
+    q = np.asarray(q, dtype=float)
+    fams = np.asarray(fams)
+    off = np.array([0.0, 1.0, 1.0, 2.0])[fams]          # a_even, a_odd, b_odd, b_even
+    j = np.arange(n, dtype=float)[:, None]
+    d = (2.0 * j + off[None, :]) ** 2
+    odd = (fams == 1) | (fams == 2)
+    d0 = np.where(fams == 1, 1.0 + q, 1.0 - q)
+    if side:
+        d0 = np.nextafter(d0, side * np.inf)
+    d[0] = np.where(odd, d0, d[0])
+    if side < 0:
+        d[-1] = np.nextafter(d[-1] - np.abs(q), -np.inf)
+    e2 = np.repeat((q * q)[None, :], n - 1, axis=0)
+    if n > 1:
+        e2[0] = np.where(fams == 0, 2.0 * e2[0], e2[0])
+    return d, e2
+
+
+def _sided(d, fams, q, side):
+    """:func:`_family_rows`'s ``side`` variants from its side-0 diagonals ``d``."""
+    import numpy as np
+
+    out = d.copy()
+    odd = (fams == 1) | (fams == 2)
+    if odd.any():
+        out[0, odd] = np.nextafter(d[0, odd], side * np.inf)
+    if side < 0:
+        out[-1] = np.nextafter(d[-1] - np.abs(q), -np.inf)
+    return out
+
+
+def _sturm_count_vec(d, e2, x):
+    """Number of eigenvalues < x of each symmetric tridiagonal (columns of d, e2),
+    counted in floating point by the LDL^T pivots.
+
+    Kahan's lemma: when d and x are doubles, the floating-point count is the
+    exact count of a matrix whose squared off-diagonal entries are perturbed by
+    at most ~5 u relative (u the unit roundoff) and whose diagonal is exact, so
+    by Weyl's theorem its eigenvalues are within :func:`_count_eta` of the
+    float matrix's."""
+    import numpy as np
+
+    cnt = np.zeros(np.shape(x), dtype=np.int64)
+    p = None
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        for i in range(d.shape[0]):
+            p = d[i] - x if i == 0 else d[i] - x - e2[i - 1] / p
+            p[p == 0.0] = -1e-290
+            cnt += p < 0
+    return cnt
+
+
+def _count_eta(q):
+    """Eigenvalue shift bounding the rounding of :func:`_sturm_count_vec`:
+    2 max|delta b| <= 2 * 3 u * sqrt(2) |q| (Kahan, Weyl; q^2 rounded too),
+    with a factor of two to spare, plus the zero-pivot replacement 1e-290."""
+    import numpy as np
+
+    return 16.0 * _U * np.abs(q) + 1e-280
+
+
+def _newton_eigen(d, e2, x, iters=8):
+    """Newton steps x <- x - f/f' on f = det(T - x) for each column (through the
+    LDL^T pivots u_i: f'/f = sum u_i'/u_i); a zero pivot means x is an
+    eigenvalue of the float matrix and stops that column."""
+    import numpy as np
+
+    x = np.array(x, dtype=float)
+    live = np.ones(x.shape, dtype=bool)
+    for _ in range(iters):
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            u = d[0] - x
+            hit = u == 0.0
+            du = -1.0
+            s = -1.0 / u
+            for i in range(1, d.shape[0]):
+                r = e2[i - 1] / u
+                du = -1.0 + r * du / u
+                u = d[i] - x - r
+                hit |= u == 0.0
+                s = s + du / u
+            step = 1.0 / s
+        step = np.where(np.isfinite(step) & ~hit & live, step, 0.0)
+        x = x - step
+        live &= np.abs(step) > 2 * _U * np.maximum(1.0, np.abs(x))
+        if not live.any():
+            break
+    return x
+
+
+def _family_size(qmax, top):
+    """Truncation (rows) of the DLMF 28.4 matrices for eigenvalues up to ``top``
+    at |q| <= qmax: past the block where |C_m| > 2|q| the tail factors of
+    :func:`_tail_steps` bring the neglected part below 1e-18."""
+    t = max(float(top), 0.0) + 2.0 * float(qmax)
+    m0 = _edge_index(t, qmax)
+    return m0 // 2 + _tail_steps(t, qmax, m0, 18) + 3
+
+
+def _certify_edges(qs, theta0_max, nodes=40):
+    """Certified characteristic values below ``theta0_max`` for each |q| in ``qs``.
+
+    qs: 1-D, sorted, distinct, >= 0.  Returns (edges, width), both of shape
+    (len(qs), E): edges sorted per row and +inf padded; every exact
+    characteristic value a_n(q), b_n(q) (all n) below theta0_max lies within
+    +-width of exactly one finite entry of its row, and there is none other
+    below theta0_max.
+
+    Predictor: eigenvalues of the DLMF 28.4.5-28.4.8 matrices at up to
+    ``nodes`` values of q (numpy.linalg.eigvalsh on the stacked matrices),
+    interpolated in q by a cubic spline; corrector: Newton on the
+    determinant; certificate, for the k-th eigenvalue x of a family:
+    Sturm count >= k + 1 at x + delta for the n-row truncation with its
+    inexact diagonal entry rounded up (>= the exact truncation, whose k-th
+    eigenvalue is >= the infinite matrix's by Cauchy interlacing), and
+    count <= k at x - delta for the truncation with the tail coupling folded
+    into its last diagonal entry (T_inf >= diag(T_n - |q| e_n e_n^T, tail - |q|
+    e_1 e_1^T), and the tail has no eigenvalue below d_n - 2|q|, Gershgorin),
+    each count exact up to :func:`_count_eta` (Kahan's lemma, Weyl).  A failed
+    certificate is retried with a LAPACK eigenvalue and a wider delta (1e-9).
+    The count at theta0_max certifies that no further value lies below it."""
+    import numpy as np
+    from scipy.interpolate import CubicSpline
+    from scipy.linalg import eigvalsh_tridiagonal
+
+    qs = np.asarray(qs, dtype=float)
+    nq = qs.size
+    top = float(theta0_max)
+    if nq == 0:
+        return np.zeros((0, 0)), np.zeros((0, 0))
+    qmax = float(qs.max())
+    n = _family_size(qmax, top)
+    ni = np.arange(nq) if nq <= nodes else np.unique(np.linspace(0, nq - 1, nodes).round().astype(int))
+    qn = qs[ni]
+    nf = len(FAMILIES)
+    # predictor: all four families at the nodes in one stacked eigvalsh
+    fn = np.repeat(np.arange(nf), qn.size)
+    dn, e2n = _family_rows(fn, np.tile(qn, nf), n)
+    A = np.zeros((fn.size, n, n))
+    i = np.arange(n)
+    A[:, i, i] = dn.T
+    A[:, i[:-1], i[:-1] + 1] = np.sqrt(e2n.T)
+    A[:, i[:-1] + 1, i[:-1]] = np.sqrt(e2n.T)
+    node_vals = np.linalg.eigvalsh(A).reshape(nf, qn.size, n)
+    # Gershgorin: a family with no eigenvalue below top at some q is skipped there
+    lo_bound = np.stack([-2.0 * np.sqrt(2.0) * qs] + [np.minimum(1.0 - qs, 9.0 - 2 * qs) - qs] * 2
+                        + [4.0 - 2.0 * qs])
+    margin = 1.0 + 0.5 * abs(top)
+    curves = [(f, j) for f in range(nf)
+              for j in range(min(int(np.max(np.sum(node_vals[f] <= top + margin, axis=1))), n - 2))]
+    if not curves:
+        g_all = np.zeros((nq, 0))
+    elif qn.size == nq:
+        g_all = np.stack([node_vals[f, :, j] for f, j in curves], axis=1)
+    else:
+        y = np.stack([node_vals[f, :, j] for f, j in curves], axis=1)
+        g_all = CubicSpline(qn, y, axis=0)(qs) if qn.size >= 4 else \
+            np.stack([np.interp(qs, qn, y[:, c]) for c in range(y.shape[1])], axis=1)
+    cols_f, cols_q, cols_j, guesses = [], [], [], []
+    for c, (f, j) in enumerate(curves):
+        g = g_all[:, c]
+        sel = np.nonzero((g <= top + margin) & (lo_bound[f] <= top))[0]
+        cols_f.append(np.full(sel.size, f))
+        cols_q.append(sel)
+        cols_j.append(np.full(sel.size, j))
+        guesses.append(g[sel])
+    cf = np.concatenate(cols_f) if cols_f else np.zeros(0, int)
+    cq = np.concatenate(cols_q) if cols_q else np.zeros(0, int)
+    cj = np.concatenate(cols_j) if cols_j else np.zeros(0, int)
+    qq = qs[cq]
+    d, e2 = _family_rows(cf, qq, n)
+    x = _newton_eigen(d, e2, np.concatenate(guesses) if guesses else np.zeros(0))
+    dp, dm = _sided(d, cf, qq, +1), _sided(d, cf, qq, -1)
+    e2p = e2m = e2
+    eta = _count_eta(qq)
+    tail_lo = (2.0 * n + np.array([0.0, 1.0, 1.0, 2.0])[cf]) ** 2 - 2.0 * qq
+    width = np.full(x.shape, np.nan)
+    for delta_rel in (1e-13, 1e-9):
+        todo = np.isnan(width)
+        if not todo.any():
+            break
+        delta = delta_rel * np.maximum(1.0, np.abs(x)) + 64.0 * eta
+        ok = ((_sturm_count_vec(dp, e2p, x + delta) >= cj + 1)
+              & (_sturm_count_vec(dm, e2m, x - delta) <= cj)
+              & (x + delta + eta < tail_lo))
+        width = np.where(todo & ok, delta + 2.0 * eta, width)
+        for b in np.nonzero(np.isnan(width))[0]:
+            dd, ee = _family_diagonals(FAMILIES[cf[b]], float(qq[b]), n, 1.0)
+            x[b] = eigvalsh_tridiagonal(np.asarray(dd, float), np.sqrt(np.asarray(ee, float)),
+                                        select="i", select_range=(cj[b], cj[b]))[0]
+    # no further eigenvalue below top: count at top (+ eta) <= the number kept
+    kept = np.zeros((nf, nq), dtype=np.int64)
+    np.add.at(kept, (cf, cq), 1)
+    af, aq = np.nonzero(lo_bound <= top + 1.0)
+    d1, e21 = _family_rows(af, qs[aq], n, side=-1)
+    above = _sturm_count_vec(d1, e21, np.full(af.size, top) + 2.0 * _count_eta(qs[aq])) <= kept[af, aq]
+    if not (above.all() and top + 1.0 < float(np.min(tail_lo, initial=np.inf))
+            and not np.isnan(width).any()):
+        raise AccuracyWarning("could not certify the characteristic values of the map "
+                              f"(|q| up to {qmax:g}, theta0 up to {top:g})")
+    keep = x - width <= top
+    E = int(np.max(np.bincount(cq[keep], minlength=nq), initial=0))
+    edges = np.full((nq, E), np.inf)
+    wout = np.zeros((nq, E))
+    if E:
+        order = np.lexsort((x[keep], cq[keep]))
+        rows = cq[keep][order]
+        start = np.searchsorted(rows, np.arange(nq))
+        pos = np.arange(rows.size) - start[rows]
+        edges[rows, pos] = x[keep][order]
+        wout[rows, pos] = width[keep][order]
+    return edges, wout
