@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import warnings
 
-from pendulab.errors import AccuracyWarning, InputError
+from pendulab.errors import AccuracyWarning, InputError, PrecisionError
 from pendulab.analyses.floquet._bands import FAMILIES, _edge_index, _family_diagonals, _tail_steps
 from pendulab.analyses.floquet._charvalues import _family_of
 from pendulab.analyses.floquet._exponent import characteristic_exponent
@@ -533,7 +533,7 @@ def _certify_edges(qs, theta0_max, nodes=40):
     dp, dm = _sided(d, cf, qq, +1), _sided(d, cf, qq, -1)
     e2p = e2m = e2
     eta = _count_eta(qq)
-    tail_lo = (2.0 * n + np.array([0.0, 1.0, 1.0, 2.0])[cf]) ** 2 - 2.0 * qq
+    tail_lo = ((2.0 * n + np.array([0.0, 1.0, 1.0, 2.0])[cf]) ** 2 - 2.0 * qq) * (1.0 - 1e-15)
     width = np.full(x.shape, np.nan)
     for delta_rel in (1e-13, 1e-9):
         todo = np.isnan(width)
@@ -543,7 +543,7 @@ def _certify_edges(qs, theta0_max, nodes=40):
         ok = ((_sturm_count_vec(dp, e2p, x + delta) >= cj + 1)
               & (_sturm_count_vec(dm, e2m, x - delta) <= cj)
               & (x + delta + eta < tail_lo))
-        width = np.where(todo & ok, delta + 2.0 * eta, width)
+        width = np.where(todo & ok, delta + 2.0 * eta + 4.0 * _U * np.abs(x), width)
         for b in np.nonzero(np.isnan(width))[0]:
             dd, ee = _family_diagonals(FAMILIES[cf[b]], float(qq[b]), n, 1.0)
             x[b] = eigvalsh_tridiagonal(np.asarray(dd, float), np.sqrt(np.asarray(ee, float)),
@@ -551,13 +551,15 @@ def _certify_edges(qs, theta0_max, nodes=40):
     # no further eigenvalue below top: count at top (+ eta) <= the number kept
     kept = np.zeros((nf, nq), dtype=np.int64)
     np.add.at(kept, (cf, cq), 1)
+    jmax = np.zeros((nf, nq), dtype=np.int64)
+    np.maximum.at(jmax, (cf, cq), cj + 1)
     af, aq = np.nonzero(lo_bound <= top + 1.0)
     d1, e21 = _family_rows(af, qs[aq], n, side=-1)
     above = _sturm_count_vec(d1, e21, np.full(af.size, top) + 2.0 * _count_eta(qs[aq])) <= kept[af, aq]
-    if not (above.all() and top + 1.0 < float(np.min(tail_lo, initial=np.inf))
-            and not np.isnan(width).any()):
-        raise AccuracyWarning("could not certify the characteristic values of the map "
-                              f"(|q| up to {qmax:g}, theta0 up to {top:g})")
+    above &= top + 1.0 < ((2.0 * n + np.array([0.0, 1.0, 1.0, 2.0])[af]) ** 2 - 2.0 * qs[aq]) * 0.999
+    if not (above.all() and np.array_equal(kept, jmax) and not np.isnan(width).any()):
+        raise PrecisionError("could not certify the characteristic values of the map "
+                             f"(|q| up to {qmax:g}, theta0 up to {top:g}) in double precision")
     keep = x - width <= top
     E = int(np.max(np.bincount(cq[keep], minlength=nq), initial=0))
     edges = np.full((nq, E), np.inf)
