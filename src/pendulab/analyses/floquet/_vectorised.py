@@ -5,9 +5,10 @@ from __future__ import annotations
 import math
 import warnings
 
+import mpmath
+
 from pendulab.errors import AccuracyWarning, InputError, PrecisionError
 from pendulab.analyses.floquet._bands import FAMILIES, _edge_index, _family_diagonals, _tail_steps
-from pendulab.analyses.floquet._charvalues import _family_of
 from pendulab.analyses.floquet._exponent import characteristic_exponent
 from pendulab.analyses.floquet._inputs import SIZE_LIMIT
 
@@ -144,38 +145,169 @@ def exponent(theta0, theta1):
     return out.reshape(shape)
 
 
-def _char_values_double(theta1_values, kind_order):
-    """a_n(q) or b_n(q), q = -theta1, for each distinct theta1 (double precision).
+def _shifted_rows(top, absq, digits=10):
+    """Truncation of J(nu): rows m = 2n + nu with |m| <= R, R from the tail rule
+    (eigenvector components below 10^-digits there, so that the eigenvalue,
+    which changes with their square, is exact to 10^-(2 digits)) for theta0 <= top."""
+    m0 = _edge_index(top, absq)
+    return m0 + 2 * _tail_steps(top, absq, m0, digits)
 
-    kind_order: list of ("a"|"b", n); returns dict (theta1, kind, n) -> value."""
+
+def _theta0_of_exponent_polished(NU, X1):
+    """theta0_of_exponent(nu, theta1) to double precision for one non-integer nu
+    and theta1 != 0 (exact inputs: Fraction or mpf).
+
+    The vectorised root (:func:`_band_eigen`) refined by Newton on
+    det(J(nu) - x) in mpmath, at 30 digits with rows to 10^-16 and at 40 digits
+    with four more rows; returns None (the caller then solves the cf function)
+    when the two differ by more than 1e-22 relative, Newton does not settle, or
+    the result leaves the band or moves from the double root by more than 1e-10."""
     import numpy as np
-    from scipy.linalg import eigvalsh_tridiagonal
 
-    out = {}
-    top = max(n for _, n in kind_order) if kind_order else 0
-    for th1 in np.unique(theta1_values):
-        q = -float(th1)
-        size = float(top * top) + 2.0 * abs(q)
-        m0 = _edge_index(size, q)
-        n = m0 // 2 + top // 2 + _tail_steps(size, q, m0, 18) + 3
-        vals = {}
-        for fam in FAMILIES:
-            d, e2 = _family_diagonals(fam, q, n, 1.0)
-            vals[fam] = np.sort(eigvalsh_tridiagonal(np.asarray(d, float),
-                                                     np.sqrt(np.asarray(e2, float))))
-        for kind, m in kind_order:
-            fam, j = _family_of(kind, m)
-            out[(float(th1), kind, m)] = float(vals[fam][j])
+    nu_f, th_f = float(NU), float(X1)
+    k = math.floor(NU)
+    if nu_f != nu_f or math.floor(nu_f) != k or nu_f == k:
+        return None
+    lo, hi = _band_edges(np.array([abs(th_f)]), np.array([k], dtype=np.int64))
+    x0 = float(_band_eigen(np.array([nu_f]), np.array([th_f * th_f]), np.array([k]), lo, hi,
+                           _shifted_rows(float(hi[0]), abs(th_f)))[0])
+    lo, hi = float(lo[0]), float(hi[0])
+    scale = max(1.0, abs(x0))
+    R = _shifted_rows(hi, abs(th_f), 16)
+    found = []
+    for dps, extra in ((30, 0), (40, 4)):
+        with mpmath.workdps(dps):
+            nu = mpmath.mpf(NU.numerator) / NU.denominator if hasattr(NU, "denominator") else +NU
+            th = mpmath.mpf(X1.numerator) / X1.denominator if hasattr(X1, "denominator") else +X1
+            q2 = th * th
+            Rm = R + 2 * extra
+            n0 = 2 * math.floor((-Rm - nu_f) / 2.0)
+            diag = [(nu + (n0 + 2 * i)) ** 2 for i in range(Rm + 2)]
+            x = mpmath.mpf(x0)
+            tol = mpmath.mpf(10) ** (5 - dps) * scale
+            for _ in range(12):
+                u = diag[0] - x
+                du = mpmath.mpf(-1)
+                s = du / u
+                for d in diag[1:]:
+                    r = q2 / u
+                    du = -1 + r * du / u
+                    u = d - x - r
+                    s += du / u
+                step = 1 / s
+                x -= step
+                if abs(step) <= tol:
+                    break
+            else:
+                return None
+            found.append(x)
+    with mpmath.workdps(40):
+        if abs(found[0] - found[1]) > mpmath.mpf(10) ** -22 * scale:
+            return None
+    v = float(found[1])
+    if not (lo - 1e-9 * scale <= v <= hi + 1e-9 * scale) or abs(v - x0) > 1e-10 * scale:
+        return None
+    return v
+
+
+def _band_eigen(nu, q2, k, lo, hi, R, chunk=8192):
+    """The k-th eigenvalue (0-based) of J(nu): rows m = 2n + nu (n integer,
+    |m| <= R), diagonal m^2, off-diagonal theta1 (squared: q2), for arrays nu,
+    q2, k, lo, hi of one shape; lo < eigenvalue < hi is the band.
+
+    Safeguarded Newton on det(J - x) (pivots u_i of LDL^T: f'/f = sum u_i'/u_i),
+    the bracket kept by the Sturm count (k below x: x is above the root),
+    bisection when a step leaves the bracket.  The count is exact for off-
+    diagonals perturbed by 2.5 ulp (Kahan), so the root is the eigenvalue of
+    the float matrix to a few ulps of max(|x|, |q|).  Worked in chunks that
+    stay in the cache."""
+    import numpy as np
+
+    out = np.empty(nu.size)
+    for s in range(0, nu.size, chunk):
+        sl = slice(s, s + chunk)
+        out[sl] = _band_eigen_chunk(nu[sl], q2[sl], k[sl], lo[sl], hi[sl], R)
+    return out
+
+
+def _band_eigen_chunk(nu, q2, k, lo, hi, R):
+    import numpy as np
+
+    L = int(R) + 2
+    # diagonal m^2, m = 2n + nu with one rounding (the row n = 0 is nu itself)
+    n0 = 2.0 * np.floor((-R - nu) / 2.0)                # 2n of the first row
+    D = ((n0[None, :] + 2.0 * np.arange(L)[:, None]) + nu[None, :]) ** 2
+    span = np.maximum(hi - lo, 0.0)
+    kk = k.astype(float)
+    # q = 0 guess: nu^2 in [k^2, (k+1)^2], mapped onto [lo, hi]
+    x = lo + span * np.clip((nu * nu - kk * kk) / (2.0 * kk + 1.0), 0.0, 1.0)
+    x = np.clip(x, lo, hi)
+    a, b = lo.copy(), hi.copy()
+    out = x.copy()
+    idx = np.arange(nu.size)        # the points still iterating (columns of D)
+    live = np.ones(nu.size, dtype=bool)
+    e2, ka, la, ha = q2, k, lo, hi
+    for _it in range(120):
+        if idx.size == 0:
+            break
+        xa = x[idx]
+        r = np.empty_like(xa)
+        t = np.empty_like(xa)
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            u = D[0] - xa
+            cnt = (u < 0).astype(np.int64)
+            du = np.full_like(xa, -1.0)
+            sm = -1.0 / u
+            for i in range(1, L):
+                np.divide(e2, u, out=r)
+                du *= r
+                du /= u
+                du -= 1.0
+                np.subtract(D[i], xa, out=u)
+                u -= r
+                cnt += u < 0
+                np.divide(du, u, out=t)
+                sm += t
+            below = cnt <= ka
+            aa = np.where(below, xa, a[idx])
+            bb = np.where(below, b[idx], xa)
+            step = 1.0 / sm
+            xn = xa - step
+        scale = np.maximum(1.0, np.abs(xa))
+        # a step at rounding level is the root (it may cross the bracket's end
+        # by rounding); otherwise a step out of the bracket is replaced by bisection
+        small = np.abs(step) <= 4.0 * _U * scale
+        bad = ~(np.isfinite(xn) & (xn > aa) & (xn < bb)) & ~small
+        xn = np.where(bad, 0.5 * (aa + bb), xn)
+        # Newton's next error is about step^2 sum 1/|lambda_i - x| over the other
+        # eigenvalues, all outside the band: below step^2 L / dist
+        dist = np.minimum(xn - la, ha - xn)
+        early = ~bad & (step * step * L <= 0.25 * _U * scale * dist)
+        done = small | early | (bb - aa <= 4.0 * _U * scale)
+        a[idx], b[idx] = aa, bb
+        x[idx] = np.where(live[idx], xn, x[idx])
+        fin = idx[done & live[idx]]
+        out[fin] = x[fin]
+        live[fin] = False
+        keep = live[idx]
+        if not keep.any():
+            idx = idx[:0]
+            break
+        if keep.sum() <= 0.5 * idx.size:       # compact the columns still iterating
+            idx, D = idx[keep], D[:, keep]
+            e2, ka, la, ha = e2[keep], ka[keep], la[keep], ha[keep]
+    out[live] = x[live]
     return out
 
 
 def _theta0_of_exponent_array(nu, theta1):
     """Vectorised theta0_of_exponent in double precision (see its docstring).
 
-    Non-integer nu: bisection in the band [lo, hi] (edges from :func:`_bands_double`
-    at the band's midpoint count) on d(theta0) = d*, with d the edge-referenced
-    trace difference of :func:`exponent` and d* = 2 sin^2(pi (nu - e)/2) for the
-    integer e nearest nu; d is monotone in the band.  Integer nu: a_nu(q), q = -theta1.
+    Non-integer nu in band k = floor(nu): theta0 is the k-th eigenvalue (0-based)
+    of the symmetric tridiagonal J(nu) with diagonal (2n + nu)^2 and off-diagonal
+    theta1, n in Z (000 eqs. 9-10 read as an eigenproblem in theta0; its spectrum
+    is lambda_{|nu + 2m|}(q), one value in each band), found between the band
+    edges by :func:`_band_eigen`.  Integer nu: a_nu(q), q = -theta1.
     """
     import numpy as np
 
@@ -194,42 +326,71 @@ def _theta0_of_exponent_array(nu, theta1):
     is_int = (fn == np.floor(fn)) & ~zero_q
     out[zero_q] = fn[zero_q] ** 2
     if np.any(is_int):
+        # a_n(q), q = -theta1: with the values at |q| sorted, e_0 < e_1 < ... is
+        # a_0 < b_1 < a_1 < b_2 < ... (DLMF 28.2.22); a_{2j}(q) = a_{2j}(|q|) and
+        # a_{2j+1}(q) = b_{2j+1}(|q|) for q < 0 (DLMF 28.2.26)
         ii = np.nonzero(is_int)[0]
-        orders = sorted({("a", int(v)) for v in fn[ii]})
-        vals = _char_values_double(f1[ii], orders)
-        out[ii] = [vals[(float(t), "a", int(v))] for t, v in zip(f1[ii], fn[ii])]
+        n_i = fn[ii].astype(np.int64)
+        q_i = -f1[ii]
+        idx = np.where(n_i == 0, 0, np.where(q_i > 0, 2 * n_i, np.where(n_i % 2 == 0, 2 * n_i, 2 * n_i - 1)))
+        out[ii] = _sorted_edges_at(np.abs(q_i), idx)
     todo = np.nonzero(~zero_q & ~is_int)[0]
     if todo.size:
-        nu_t, q_t = fn[todo], f1[todo]
-        k = np.floor(nu_t).astype(int)
-        e = np.rint(nu_t).astype(int)
-        # band edges: the (2k+1)-th and (2k+2)-th characteristic values at |q|
-        lo = np.empty(todo.size)
-        hi = np.empty(todo.size)
-        for q in np.unique(np.abs(q_t)):
-            idx = np.nonzero(np.abs(q_t) == q)[0]
-            top = float((k[idx].max() + 1) ** 2) + 2.0 * q + 1.0
-            edges = _edges_double(float(q), top)
-            lo[idx] = edges[2 * k[idx]]
-            hi[idx] = edges[2 * k[idx] + 1]
-        E = np.where(e == k, lo, hi)
-        se = np.where(e % 2 == 0, 1.0, -1.0)
-        yE = trace_monodromy(E, q_t) / 2.0
-        target = 2.0 * np.sin(np.pi * (nu_t - e) / 2.0) ** 2
-        # d(theta0) - target is > 0 on the side of E's far end: orient so that
-        # phi = (d - target) * orient is increasing in theta0
-        orient = np.where(e == k, 1.0, -1.0)
-        a, b = lo.copy(), hi.copy()
-        for _ in range(200):
-            mid = 0.5 * (a + b)
-            d = se * (yE - trace_monodromy(mid, q_t) / 2.0)
-            phi = (d - target) * orient
-            a = np.where(phi < 0, mid, a)
-            b = np.where(phi < 0, b, mid)
-            if np.all(b - a <= 4e-16 * np.maximum(1.0, np.abs(mid))):
-                break
-        out[todo] = 0.5 * (a + b)
+        nu_t, absq = fn[todo], np.abs(f1[todo])
+        k = np.floor(nu_t).astype(np.int64)
+        lo, hi = _band_edges(absq, k)
+        res = np.empty(todo.size)
+        # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
+        octave = np.floor(np.log2(np.maximum(absq, 1e-300))).clip(-4, None).astype(np.int64)
+        key = k * 4096 + octave
+        for g in np.unique(key):
+            sel = np.nonzero(key == g)[0]
+            R = _shifted_rows(float(hi[sel].max()), float(absq[sel].max()))
+            res[sel] = _band_eigen(nu_t[sel], absq[sel] ** 2, k[sel], lo[sel], hi[sel], R)
+        out[todo] = res
     return out.reshape(shape)
+
+
+def _sorted_edges_at(absq, idx):
+    """The idx-th (0-based) of the sorted characteristic values a_n, b_n at each
+    |q| (arrays of one shape): certified values (:func:`_certify_edges`), or
+    LAPACK per distinct |q| (:func:`_edges_double`) where that is refused."""
+    import numpy as np
+
+    qs, inv = np.unique(absq, return_inverse=True)
+    imax = int(idx.max())
+    top = (imax // 2 + 1.0) ** 2 + 3.0 * float(qs.max()) + 1.0
+    ok = False
+    if qs.size > 16:  # batched; a few |q| are quicker one by one
+        try:
+            E, _ = _certify_edges(qs, top)
+            ok = E.shape[1] > imax
+        except PrecisionError:
+            pass
+    if ok:
+        vals = E[inv, idx]
+        if np.all(np.isfinite(vals)):
+            return vals
+    vals = np.empty(idx.size)
+    for i, q in enumerate(qs):
+        sel = np.nonzero(inv == i)[0]
+        edges = _edges_double(float(q), (int(idx[sel].max()) // 2 + 1.0) ** 2 + 2.0 * q + 1.0)
+        vals[sel] = edges[idx[sel]]
+    return vals
+
+
+def _band_edges(absq, k):
+    """Edges (e_{2k}, e_{2k+1}) of stable band k at each |q| (arrays of one shape)."""
+    import numpy as np
+
+    qs, inv = np.unique(absq, return_inverse=True)
+    kq = np.zeros(qs.size, dtype=np.int64)
+    np.maximum.at(kq, inv, k)
+    # every edge up to e_{2 kq + 1} for each distinct |q|: one table, two look-ups
+    width = 2 * int(kq.max()) + 2
+    table = _sorted_edges_at(np.repeat(qs, width), np.tile(np.arange(width), qs.size))
+    table = table.reshape(qs.size, width)
+    return table[inv, 2 * k], table[inv, 2 * k + 1]
 
 
 def is_stable(theta0, theta1, rtol=1e-12):
