@@ -118,7 +118,151 @@ def exponent(theta0, theta1):
     out = np.zeros(f0.shape, dtype=complex)
     if f0.size == 0:
         return out.reshape(shape)
-    cnt, below, above = _bands_double(f0, f1)
+    cnt, below, above = _bands_fast(f0, f1)
+    band = cnt % 2 == 1
+    # theta1 = 0: lam = sqrt(theta0) exactly
+    zero = f1 == 0
+    out[zero] = np.sqrt(f0[zero] + 0j)
+    # inside a band: lam real, the root in (k, k+1) of det(J(lam) - theta0)
+    inb = np.nonzero(band & ~zero & np.isfinite(below) & np.isfinite(above))[0]
+    if inb.size:
+        k = (cnt[inb] - 1) // 2
+        absq = np.abs(f1[inb])
+        lam = np.empty(inb.size)
+        octave = np.floor(np.log2(absq)).clip(-4, None).astype(np.int64)
+        key = k * 4096 + octave
+        for g in np.unique(key):
+            sel = np.nonzero(key == g)[0]
+            R = _shifted_rows(float(above[inb][sel].max()), float(absq[sel].max()))
+            lam[sel] = _band_nu(f0[inb][sel], absq[sel] ** 2, k[sel], below[inb][sel],
+                                above[inb][sel], R)
+        out[inb] = lam
+    rest = np.ones(f0.shape, dtype=bool)
+    rest[inb] = False
+    rest &= ~zero
+    ri = np.nonzero(rest)[0]
+    if ri.size:
+        out[ri] = _exponent_by_trace(f0[ri], f1[ri], cnt[ri], below[ri], above[ri])
+    return out.reshape(shape)
+
+
+def _bands_fast(f0, f1):
+    """:func:`_bands_double` from the certified values (batched over |q|) when
+    there are many distinct |q|; LAPACK one |q| at a time otherwise."""
+    import numpy as np
+
+    qs, inv = np.unique(np.abs(f1), return_inverse=True)
+    if qs.size <= 16:
+        return _bands_double(f0, f1)
+    reach = (math.sqrt(max(float(f0.max()), 0.0) + 2.0 * float(qs.max())) + 3.0) ** 2
+    try:
+        E, _ = _certify_edges(qs, reach)
+    except PrecisionError:
+        return _bands_double(f0, f1)
+    Ei = E[inv]
+    cnt = np.sum(Ei < f0[:, None], axis=1)
+    ne = E.shape[1]
+    rows = np.arange(f0.size)
+    below = np.where(cnt > 0, Ei[rows, np.clip(cnt - 1, 0, max(ne - 1, 0))], -np.inf) if ne else \
+        np.full(f0.shape, -np.inf)
+    above = np.where(cnt < ne, Ei[rows, np.clip(cnt, 0, max(ne - 1, 0))], np.inf) if ne else \
+        np.full(f0.shape, np.inf)
+    return cnt, below, above
+
+
+def _band_nu(th0, q2, k, lo, hi, R, chunk=8192):
+    """The exponent lam in (k, k+1) with theta0 = lambda_lam(q): the root of
+    det(J(lam) - theta0) (J of :func:`_band_eigen`), for arrays of one shape
+    whose theta0 lies in band k = (lo, hi).
+
+    Safeguarded Newton in lam (d/dlam of the pivots: u_i' = 2 m_i + (theta1^2 /
+    u_{i-1}) u_{i-1}'/u_{i-1}), the bracket in (k, k+1) kept by the Sturm count
+    (k + 1 eigenvalues below theta0: lam is below the root), bisection when a
+    step leaves it.  Next to an edge lam - e moves like the square root of
+    theta0 - E, so rounding of det at the 1e-16 level gives ~1e-16/(lam - e)."""
+    import numpy as np
+
+    out = np.empty(th0.size)
+    for s in range(0, th0.size, chunk):
+        sl = slice(s, s + chunk)
+        out[sl] = _band_nu_chunk(th0[sl], q2[sl], k[sl], lo[sl], hi[sl], R)
+    return out
+
+
+def _band_nu_chunk(th0, q2, k, lo, hi, R):
+    import numpy as np
+
+    L = int(R) + 4
+    kf = k.astype(float)
+    n0 = 2.0 * np.floor((-R - kf - 1.0) / 2.0)       # 2n of the first row, for all lam in (k, k+1)
+    steps = n0[None, :] + 2.0 * np.arange(L)[:, None]  # exact even integers
+    span = np.maximum(hi - lo, 1e-300)
+    # q = 0 guess: theta0 = lam^2 with [lo, hi] mapped onto [k^2, (k+1)^2]
+    lam = np.sqrt(kf * kf + np.clip((th0 - lo) / span, 0.0, 1.0) * (2.0 * kf + 1.0))
+    lam = np.clip(lam, kf + 1e-3, kf + 1.0 - 1e-3)
+    a, b = kf.copy(), kf + 1.0
+    out = lam.copy()
+    idx = np.arange(th0.size)
+    live = np.ones(th0.size, dtype=bool)
+    t0, e2, ka, kfa = th0, q2, k, kf
+    for _it in range(200):
+        if idx.size == 0:
+            break
+        la = lam[idx]
+        r = np.empty_like(la)
+        t = np.empty_like(la)
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            m = steps[0] + la
+            u = m * m - t0
+            cnt = (u < 0).astype(np.int64)
+            du = 2.0 * m
+            sm = du / u
+            for i in range(1, L):
+                np.divide(e2, u, out=r)
+                du *= r
+                du /= u
+                np.add(steps[i], la, out=m)
+                du += 2.0 * m
+                np.multiply(m, m, out=u)
+                u -= t0
+                u -= r
+                cnt += u < 0
+                np.divide(du, u, out=t)
+                sm += t
+            below = cnt >= ka + 1
+            aa = np.where(below, la, a[idx])
+            bb = np.where(below, b[idx], la)
+            step = 1.0 / sm
+            ln = la - step
+        scale = np.maximum(1.0, np.abs(la))
+        small = np.abs(step) <= 4.0 * _U * scale
+        bad = ~(np.isfinite(ln) & (ln > aa) & (ln < bb)) & ~small
+        ln = np.where(bad, 0.5 * (aa + bb), ln)
+        # the other roots in lam lie at 2j - lam* (outside (k, k+1)) and beyond
+        dist = np.minimum(ln - kfa, kfa + 1.0 - ln)
+        early = ~bad & (step * step * L <= 0.25 * _U * scale * dist)
+        done = small | early | (bb - aa <= 4.0 * _U * scale)
+        a[idx], b[idx] = aa, bb
+        lam[idx] = np.where(live[idx], ln, lam[idx])
+        fin = idx[done & live[idx]]
+        out[fin] = lam[fin]
+        live[fin] = False
+        keep = live[idx]
+        if not keep.any():
+            idx = idx[:0]
+            break
+        if keep.sum() <= 0.5 * idx.size:
+            idx, steps = idx[keep], steps[:, keep]
+            t0, e2, ka, kfa = t0[keep], e2[keep], ka[keep], kfa[keep]
+    out[live] = lam[live]
+    return out
+
+
+def _exponent_by_trace(f0, f1, cnt, below, above):
+    """lam from Hill's determinant (the gaps, below a_0, and the rest; see
+    :func:`exponent`)."""
+    import numpy as np
+
     y = trace_monodromy(f0, f1) / 2.0
     band = cnt % 2 == 1
     k = np.where(band, (cnt - 1) // 2, cnt // 2)
@@ -142,7 +286,7 @@ def exponent(theta0, theta1):
     bad = ~(np.isfinite(y) & np.isfinite(yE) & (np.abs(y) < 1e300))
     for i in np.nonzero(bad)[0]:
         out[i] = complex(characteristic_exponent(float(f0[i]), float(f1[i])).lam)
-    return out.reshape(shape)
+    return out
 
 
 def _shifted_rows(top, absq, digits=10):
