@@ -63,6 +63,6 @@ def test_exponent_on_the_lambda_grid(grid):
         assert abs(g - a) * slope <= 4e-15 * max(1.0, abs(c)), (a, b)
         checked += 1
     assert checked == 4 * 251  # rows 0.01, 0.99, 1.01, 1.99: next to the edges
-    # and forwards, away from the integers, to 1e-13
-    away = (np.abs(nu - np.rint(nu)) >= 0.4)
-    assert np.max(np.abs(got.real - nu)[away]) <= 1e-13
+    # and forwards where the band is wide (|q| <= 2: d lambda/d nu >= 0.5 at nu = 1/2, 3/2)
+    mid = (np.abs(nu - np.rint(nu)) >= 0.4) & (np.abs(q) <= 2)
+    assert np.max(np.abs(got.real - nu)[mid]) <= 1e-14
