@@ -16,6 +16,14 @@ inverse (issue 12), one command:
    point, beside scipy.special.mathieu_a on the same grid with the order
    m = floor(nu) (the order must be an integer for SciPy: for non-integer
    nu it returns nan without computing, which is timed too).
+3. With the full grid file of MathieuFunctions.jl (test/MathieuCharacteristicL-1.csv,
+   Mathematica's values; not shipped, a 17-row extract is in tests/data/):
+
+       python benchmarks/bench_map.py path/to/MathieuCharacteristicL-1.csv
+
+   the accuracy of the inverse on all 201 x 1001 points (relative to
+   max(1, |lambda|)) and the backward error of the exponent (|lam - nu| times
+   d lambda/d nu from the grid's rows, relative to max(1, |lambda|)).
 """
 
 import os
@@ -103,6 +111,30 @@ def vectorised():
     print(f"    theta0_of_exponent(1.37, 0.8) (one double): {1e3 * t1:.3f} ms")
 
 
+def whole_grid(path):
+    ref = np.loadtxt(path, delimiter=",")
+    NU, Q = grid()
+    got = theta0_of_exponent(NU, -Q)
+    err = np.abs(got - ref) / np.maximum(1.0, np.abs(ref))
+    i = np.unravel_index(np.argmax(err), err.shape)
+    print(f"whole lambda grid ({ref.size} points): inverse max error {err.max():.3g} "
+          f"(relative to max(1, |lambda|)) at nu = {NU[i]:.2f}, q = {Q[i]:.2f}; "
+          f"points above 2.5e-14: {int(np.count_nonzero(err > 2.5e-14))}")
+    lam = exponent(ref, -Q).real
+    back = []
+    for r in range(1, 200):
+        if r % 100 == 0:
+            continue
+        h = 1 if r % 100 < 50 else -1          # one-sided, inside the band
+        slope = np.abs(-3 * ref[r] + 4 * ref[r + h] - ref[r + 2 * h]) / 0.02
+        back.append(np.abs(lam[r] - NU[r]) * slope / np.maximum(1.0, np.abs(ref[r])))
+    back = np.array(back)
+    print(f"    exponent backward error (non-integer nu, {back.size} points): max {back.max():.3g}, "
+          f"99th percentile {np.percentile(back, 99):.3g}")
+
+
 if __name__ == "__main__":
     maps()
     vectorised()
+    if len(sys.argv) > 1:
+        whole_grid(sys.argv[1])

@@ -154,7 +154,11 @@ def _bands_fast(f0, f1):
     qs, inv = np.unique(np.abs(f1), return_inverse=True)
     if qs.size <= 16:
         return _bands_double(f0, f1)
-    reach = (math.sqrt(max(float(f0.max()), 0.0) + 2.0 * float(qs.max())) + 3.0) ** 2
+    # far enough for the edge above the largest theta0 (successive edges lie
+    # within 2 sqrt(theta0 + 2|q|) + 3 of each other); a point without one
+    # takes the trace route of :func:`exponent`
+    t = max(float(f0.max()), 0.0)
+    reach = float(f0.max()) + 2.0 * math.sqrt(t + 2.0 * float(qs.max())) + 4.0
     try:
         E, _ = _certify_edges(qs, reach)
     except PrecisionError:
@@ -197,9 +201,13 @@ def _band_nu_chunk(th0, q2, k, lo, hi, R):
     n0 = 2.0 * np.floor((-R - kf - 1.0) / 2.0)       # 2n of the first row, for all lam in (k, k+1)
     steps = n0[None, :] + 2.0 * np.arange(L)[:, None]  # exact even integers
     span = np.maximum(hi - lo, 1e-300)
-    # q = 0 guess: theta0 = lam^2 with [lo, hi] mapped onto [k^2, (k+1)^2]
-    lam = np.sqrt(kf * kf + np.clip((th0 - lo) / span, 0.0, 1.0) * (2.0 * kf + 1.0))
-    lam = np.clip(lam, kf + 1e-3, kf + 1.0 - 1e-3)
+    # guess: the trace cos(pi lam) taken as linear in theta0 across the band
+    # and, for a band as wide as at q = 0, sqrt(theta0) with [lo, hi] mapped onto [k^2, (k+1)^2]
+    w = np.clip((th0 - lo) / span, 0.0, 1.0)
+    wide = np.clip(span / (2.0 * kf + 1.0), 0.0, 1.0) ** 2
+    lam = (1.0 - wide) * (kf + np.arccos(1.0 - 2.0 * w) / np.pi) \
+        + wide * np.sqrt(kf * kf + w * (2.0 * kf + 1.0))
+    lam = np.clip(lam, kf + 1e-9, kf + 1.0 - 1e-9)
     a, b = kf.copy(), kf + 1.0
     out = lam.copy()
     idx = np.arange(th0.size)
@@ -289,7 +297,7 @@ def _exponent_by_trace(f0, f1, cnt, below, above):
     return out
 
 
-def _shifted_rows(top, absq, digits=10):
+def _shifted_rows(top, absq, digits=8):
     """Truncation of J(nu): rows m = 2n + nu with |m| <= R, R from the tail rule
     (eigenvector components below 10^-digits there, so that the eigenvalue,
     which changes with their square, is exact to 10^-(2 digits)) for theta0 <= top."""
@@ -383,8 +391,13 @@ def _band_eigen_chunk(nu, q2, k, lo, hi, R):
     D = ((n0[None, :] + 2.0 * np.arange(L)[:, None]) + nu[None, :]) ** 2
     span = np.maximum(hi - lo, 0.0)
     kk = k.astype(float)
-    # q = 0 guess: nu^2 in [k^2, (k+1)^2], mapped onto [lo, hi]
-    x = lo + span * np.clip((nu * nu - kk * kk) / (2.0 * kk + 1.0), 0.0, 1.0)
+    # guess: the trace cos(pi nu) taken as linear in theta0 across the band
+    # (from +-1 at lo to -+1 at hi; exact for a thin band)
+    # and, for a band as wide as at q = 0, the q = 0 value nu^2 mapped onto it
+    wide = np.clip(span / (2.0 * kk + 1.0), 0.0, 1.0) ** 2
+    w = (1.0 - wide) * (0.5 - 0.5 * np.cos(np.pi * (nu - kk))) \
+        + wide * np.clip((nu * nu - kk * kk) / (2.0 * kk + 1.0), 0.0, 1.0)
+    x = lo + span * w
     x = np.clip(x, lo, hi)
     a, b = lo.copy(), hi.copy()
     out = x.copy()
