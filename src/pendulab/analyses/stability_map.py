@@ -5,7 +5,8 @@ Both read theta0 and theta1 from the canonical stage through a
 a cos(omega t): theta0 = -4 (omega0/omega)^2, 000 eq. 5, and
 theta1 = 2 (a/l)/(I/(m l^2)), 000 eq. 6, derived, not typed in here) and the
 Mathieu-plane answers from :mod:`pendulab.analyses.floquet`: the first stable
-band for the limits, the vectorised verdict for the map.
+band for the limits, certified characteristic values (and exact decisions
+next to them) for the map.
 """
 
 from __future__ import annotations
@@ -17,7 +18,6 @@ import mpmath
 
 from pendulab.analyses.floquet._charvalues import _band_at_two_precisions, _first_band_mp
 from pendulab.analyses.floquet._inputs import SIZE_LIMIT, _check_dps, _exact, _mp
-from pendulab.analyses.floquet._vectorised import is_stable
 from pendulab.errors import InputError
 
 __all__ = ["stability_limits", "map_limits", "stability_map", "map_stability"]
@@ -84,7 +84,9 @@ def stability_map(al_values, ratio_values, inertia_ratio=1.0):
     Returns a bool array of shape (len(ratio_values), len(al_values)):
     entry [i, j] is True when a/l = al_values[j] stabilises the inverted
     position at omega0/omega = ratio_values[i] (theta0 = -4 ratio^2,
-    theta1 = 2 (a/l)/inertia_ratio; 000 eqs. 5-6).
+    theta1 = 2 (a/l)/inertia_ratio; 000 eqs. 5-6), equal to the pointwise
+    exact verdict of :func:`characteristic_exponent` at those values, for
+    every stable band in the grid's range (see :func:`map_stability`).
     """
     import numpy as np
 
