@@ -194,3 +194,25 @@ def test_map_input_errors_and_empty_grids():
         stability_map([[0.1]], [0.1])
     with pytest.raises(InputError, match="too large"):
         stability_map([1e7], [0.1])
+
+
+def test_map_of_a_hill_drive_is_refused_in_one_line():
+    from pendulab.analyses.stability import ParameterMap
+    from pendulab.canonical import periodic_form
+    from pendulab.equations import derive
+    from pendulab.exprs import parse
+    from pendulab.systems import DrivenPivot
+
+    eqs = derive(DrivenPivot(body="rod", drive=parse("a*cos(omega*t) + a*cos(2*omega*t)")))
+    with pytest.raises(InputError, match="hill equation"):
+        map_stability(ParameterMap(eqs, periodic_form(eqs)), [0.1], [0.1])
+
+
+def test_map_at_large_theta1_against_is_stable():
+    # |q| up to 4000: hundreds of characteristic values below theta0 = 0 per
+    # |q| (the predictor then works with LAPACK at the nodes, the corrector in blocks)
+    al = np.linspace(0.0, 2000.0, 60)
+    ra = np.linspace(0.0, 1.0, 50)
+    m = stability_map(al, ra)
+    assert np.array_equal(m, is_stable(-4 * ra[:, None] ** 2, 2 * al[None, :]))
+    assert map_stability.last_exact <= 2

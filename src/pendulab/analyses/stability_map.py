@@ -133,6 +133,8 @@ def map_stability(pmap, al_values, ratio_values, **groups):
         return np.zeros(shape, dtype=bool)
     if not (np.all(np.isfinite(al)) and np.all(np.isfinite(ra))):
         raise InputError("al_values and ratio_values must be finite (no nan or inf)")
+    if getattr(pmap, "kind", "mathieu") != "mathieu":  # the map's own one-line refusal
+        pmap.evaluate("theta0", dict(groups, a_over_l=al, w0_over_w=ra))
     separable = not pmap.theta0.has(S.a_over_l) and not pmap.theta1.has(S.w0_over_w)
     if separable:
         th0 = np.broadcast_to(np.asarray(pmap.evaluate("theta0", dict(groups, w0_over_w=ra)),

@@ -784,6 +784,35 @@ def _family_size(qmax, top):
     return m0 // 2 + _tail_steps(t, qmax, m0, 18) + 3
 
 
+def _newton_certify(cf, qq, cj, x0, n):
+    """Newton from x0 and the certificate of :func:`_certify_edges` for the
+    columns (family cf, |q| qq, index cj); returns (x, width), width nan where
+    the certificate failed even with a LAPACK value and delta = 1e-9."""
+    import numpy as np
+    from scipy.linalg import eigvalsh_tridiagonal
+
+    d, e2 = _family_rows(cf, qq, n)
+    x = _newton_eigen(d, e2, x0)
+    dp, dm = _sided(d, cf, qq, +1), _sided(d, cf, qq, -1)
+    eta = _count_eta(qq)
+    tail_lo = ((2.0 * n + np.array([0.0, 1.0, 1.0, 2.0])[cf]) ** 2 - 2.0 * qq) * (1.0 - 1e-15)
+    width = np.full(x.shape, np.nan)
+    for delta_rel in (1e-13, 1e-9):
+        todo = np.isnan(width)
+        if not todo.any():
+            break
+        delta = delta_rel * np.maximum(1.0, np.abs(x)) + 64.0 * eta
+        ok = ((_sturm_count_vec(dp, e2, x + delta) >= cj + 1)
+              & (_sturm_count_vec(dm, e2, x - delta) <= cj)
+              & (x + delta + eta < tail_lo))
+        width = np.where(todo & ok, delta + 2.0 * eta + 4.0 * _U * np.abs(x), width)
+        for b in np.nonzero(np.isnan(width))[0]:
+            dd, ee = _family_diagonals(FAMILIES[cf[b]], float(qq[b]), n, 1.0)
+            x[b] = eigvalsh_tridiagonal(np.asarray(dd, float), np.sqrt(np.asarray(ee, float)),
+                                        select="i", select_range=(cj[b], cj[b]))[0]
+    return x, width
+
+
 def _certify_edges(qs, theta0_max, nodes=40):
     """Certified characteristic values below ``theta0_max`` for each |q| in ``qs``.
 
@@ -820,19 +849,32 @@ def _certify_edges(qs, theta0_max, nodes=40):
     ni = np.arange(nq) if nq <= nodes else np.unique(np.linspace(0, nq - 1, nodes).round().astype(int))
     qn = qs[ni]
     nf = len(FAMILIES)
-    # predictor: all four families at the nodes in one stacked eigvalsh
+    margin = 1.0 + 0.5 * abs(top)
     fn = np.repeat(np.arange(nf), qn.size)
     dn, e2n = _family_rows(fn, np.tile(qn, nf), n)
-    A = np.zeros((fn.size, n, n))
-    i = np.arange(n)
-    A[:, i, i] = dn.T
-    A[:, i[:-1], i[:-1] + 1] = np.sqrt(e2n.T)
-    A[:, i[:-1] + 1, i[:-1]] = np.sqrt(e2n.T)
-    node_vals = np.linalg.eigvalsh(A).reshape(nf, qn.size, n)
+    if n <= 48:
+        # predictor: all four families at the nodes in one stacked eigvalsh
+        A = np.zeros((fn.size, n, n))
+        i = np.arange(n)
+        A[:, i, i] = dn.T
+        A[:, i[:-1], i[:-1] + 1] = np.sqrt(e2n.T)
+        A[:, i[:-1] + 1, i[:-1]] = np.sqrt(e2n.T)
+        node_vals = np.linalg.eigvalsh(A).reshape(nf, qn.size, n)
+    else:
+        # large matrices: LAPACK by index, as many values as lie below top anywhere
+        sq = np.sqrt(e2n)
+        cnt = [eigvalsh_tridiagonal(dn[:, c], sq[:, c], select="v",
+                                    select_range=(-np.inf, top + margin)).size
+               for c in range(fn.size)]
+        J = min(max(cnt) + 1, n)
+        node_vals = np.full((fn.size, n), np.inf)
+        for c in range(fn.size):
+            node_vals[c, :J] = eigvalsh_tridiagonal(dn[:, c], sq[:, c], select="i",
+                                                    select_range=(0, J - 1))
+        node_vals = node_vals.reshape(nf, qn.size, n)
     # Gershgorin: a family with no eigenvalue below top at some q is skipped there
     lo_bound = np.stack([-2.0 * np.sqrt(2.0) * qs] + [np.minimum(1.0 - qs, 9.0 - 2 * qs) - qs] * 2
                         + [4.0 - 2.0 * qs])
-    margin = 1.0 + 0.5 * abs(top)
     curves = [(f, j) for f in range(nf)
               for j in range(min(int(np.max(np.sum(node_vals[f] <= top + margin, axis=1))), n - 2))]
     if not curves:
@@ -855,34 +897,25 @@ def _certify_edges(qs, theta0_max, nodes=40):
     cq = np.concatenate(cols_q) if cols_q else np.zeros(0, int)
     cj = np.concatenate(cols_j) if cols_j else np.zeros(0, int)
     qq = qs[cq]
-    d, e2 = _family_rows(cf, qq, n)
-    x = _newton_eigen(d, e2, np.concatenate(guesses) if guesses else np.zeros(0))
-    dp, dm = _sided(d, cf, qq, +1), _sided(d, cf, qq, -1)
-    e2p = e2m = e2
-    eta = _count_eta(qq)
-    tail_lo = ((2.0 * n + np.array([0.0, 1.0, 1.0, 2.0])[cf]) ** 2 - 2.0 * qq) * (1.0 - 1e-15)
-    width = np.full(x.shape, np.nan)
-    for delta_rel in (1e-13, 1e-9):
-        todo = np.isnan(width)
-        if not todo.any():
-            break
-        delta = delta_rel * np.maximum(1.0, np.abs(x)) + 64.0 * eta
-        ok = ((_sturm_count_vec(dp, e2p, x + delta) >= cj + 1)
-              & (_sturm_count_vec(dm, e2m, x - delta) <= cj)
-              & (x + delta + eta < tail_lo))
-        width = np.where(todo & ok, delta + 2.0 * eta + 4.0 * _U * np.abs(x), width)
-        for b in np.nonzero(np.isnan(width))[0]:
-            dd, ee = _family_diagonals(FAMILIES[cf[b]], float(qq[b]), n, 1.0)
-            x[b] = eigvalsh_tridiagonal(np.asarray(dd, float), np.sqrt(np.asarray(ee, float)),
-                                        select="i", select_range=(cj[b], cj[b]))[0]
+    x0 = np.concatenate(guesses) if guesses else np.zeros(0)
+    x = np.empty(x0.shape)
+    width = np.full(x0.shape, np.nan)
+    block = max(256, int(4e6 // n))        # (n, block) arrays of at most 32 MB
+    for s0 in range(0, x0.size, block):
+        sl = slice(s0, s0 + block)
+        x[sl], width[sl] = _newton_certify(cf[sl], qq[sl], cj[sl], x0[sl], n)
     # no further eigenvalue below top: count at top (+ eta) <= the number kept
     kept = np.zeros((nf, nq), dtype=np.int64)
     np.add.at(kept, (cf, cq), 1)
     jmax = np.zeros((nf, nq), dtype=np.int64)
     np.maximum.at(jmax, (cf, cq), cj + 1)
     af, aq = np.nonzero(lo_bound <= top + 1.0)
-    d1, e21 = _family_rows(af, qs[aq], n, side=-1)
-    above = _sturm_count_vec(d1, e21, np.full(af.size, top) + 2.0 * _count_eta(qs[aq])) <= kept[af, aq]
+    above = np.ones(af.size, dtype=bool)
+    for s0 in range(0, af.size, block):
+        sl = slice(s0, s0 + block)
+        d1, e21 = _family_rows(af[sl], qs[aq[sl]], n, side=-1)
+        above[sl] = (_sturm_count_vec(d1, e21, np.full(d1.shape[1], top)
+                                      + 2.0 * _count_eta(qs[aq[sl]])) <= kept[af[sl], aq[sl]])
     above &= top + 1.0 < ((2.0 * n + np.array([0.0, 1.0, 1.0, 2.0])[af]) ** 2 - 2.0 * qs[aq]) * 0.999
     if not (above.all() and np.array_equal(kept, jmax) and not np.isnan(width).any()):
         raise PrecisionError("could not certify the characteristic values of the map "
