@@ -196,6 +196,7 @@ def _band_nu(th0, q2, k, lo, hi, R, chunk=8192):
     import numpy as np
 
     out = np.empty(th0.size)
+    chunk = max(16, min(chunk, int(2e6 // (R + 4))))   # (rows, chunk) at most 16 MB
     for s in range(0, th0.size, chunk):
         sl = slice(s, s + chunk)
         out[sl] = _band_nu_chunk(th0[sl], q2[sl], k[sl], lo[sl], hi[sl], R)
@@ -385,6 +386,7 @@ def _band_eigen(nu, q2, k, lo, hi, R, chunk=8192):
     import numpy as np
 
     out = np.empty(nu.size)
+    chunk = max(16, min(chunk, int(2e6 // (R + 4))))   # (rows, chunk) at most 16 MB
     for s in range(0, nu.size, chunk):
         sl = slice(s, s + chunk)
         out[sl] = _band_eigen_chunk(nu[sl], q2[sl], k[sl], lo[sl], hi[sl], R)
