@@ -803,7 +803,7 @@ def _newton_certify(cf, qq, cj, x0, n):
         todo = np.isnan(width)
         if not todo.any():
             break
-        delta = delta_rel * np.maximum(1.0, np.abs(x)) + 64.0 * eta
+        delta = delta_rel * np.maximum(1.0, np.abs(x)) + 4.0 * eta
         ok = ((_sturm_count_vec(dp, e2, x + delta) >= cj + 1)
               & (_sturm_count_vec(dm, e2, x - delta) <= cj)
               & (x + delta + eta < tail_lo))
