@@ -137,14 +137,13 @@ def exponent(theta0, theta1):
     if inb.size:
         k = (cnt[inb] - 1) // 2
         absq = np.abs(f1[inb])
+        t0, lo, hi = f0[inb], below[inb], above[inb]
         lam = np.empty(inb.size)
+        # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
         octave = np.floor(np.log2(absq)).clip(-4, None).astype(np.int64)
-        key = k * 4096 + octave
-        for g in np.unique(key):
-            sel = np.nonzero(key == g)[0]
-            R = _shifted_rows(float(above[inb][sel].max()), float(absq[sel].max()))
-            lam[sel] = _band_nu(f0[inb][sel], absq[sel] ** 2, k[sel], below[inb][sel],
-                                above[inb][sel], R)
+        for sel in _groups(k * 4096 + octave):
+            R = _shifted_rows(float(hi[sel].max()), float(absq[sel].max()))
+            lam[sel] = _band_nu(t0[sel], absq[sel] ** 2, k[sel], lo[sel], hi[sel], R)
         out[inb] = lam
     rest = np.ones(f0.shape, dtype=bool)
     rest[inb] = False
@@ -153,6 +152,16 @@ def exponent(theta0, theta1):
     if ri.size:
         out[ri] = _exponent_by_trace(f0[ri], f1[ri], cnt[ri], below[ri], above[ri])
     return out.reshape(shape)
+
+
+def _groups(key):
+    """Index arrays of the points sharing each value of ``key`` (one sort)."""
+    import numpy as np
+
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    cuts = np.nonzero(np.diff(ks))[0] + 1
+    return np.split(order, cuts)
 
 
 def _bands_fast(f0, f1):
@@ -233,20 +242,20 @@ def _band_nu_chunk(th0, q2, k, lo, hi, R):
             m = steps[0] + la
             u = m * m - t0
             cnt = (u < 0).astype(np.int64)
-            du = 2.0 * m
-            sm = du / u
+            g = 2.0 * m / u               # g_i = u_i'/u_i (d/dlam)
+            sm = g.copy()
             for i in range(1, L):
-                np.divide(e2, u, out=r)
-                du *= r
-                du /= u
+                np.divide(e2, u, out=r)   # r = theta1^2/u_{i-1}
+                g *= r                    # u_i' = 2 m_i + r g_{i-1}
                 np.add(steps[i], la, out=m)
-                du += 2.0 * m
+                g += m
+                g += m
                 np.multiply(m, m, out=u)
                 u -= t0
                 u -= r
                 cnt += u < 0
-                np.divide(du, u, out=t)
-                sm += t
+                g /= u
+                sm += g
             below = cnt >= ka + 1
             aa = np.where(below, la, a[idx])
             bb = np.where(below, b[idx], la)
@@ -424,18 +433,17 @@ def _band_eigen_chunk(nu, q2, k, lo, hi, R):
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             u = D[0] - xa
             cnt = (u < 0).astype(np.int64)
-            du = np.full_like(xa, -1.0)
-            sm = -1.0 / u
+            g = -1.0 / u                  # g_i = u_i'/u_i
+            sm = g.copy()
             for i in range(1, L):
-                np.divide(e2, u, out=r)
-                du *= r
-                du /= u
-                du -= 1.0
+                np.divide(e2, u, out=r)   # r = theta1^2/u_{i-1}
+                g *= r
+                g -= 1.0                  # u_i' = -1 + r g_{i-1}
                 np.subtract(D[i], xa, out=u)
                 u -= r
                 cnt += u < 0
-                np.divide(du, u, out=t)
-                sm += t
+                g /= u
+                sm += g
             below = cnt <= ka
             aa = np.where(below, xa, a[idx])
             bb = np.where(below, b[idx], xa)
@@ -510,9 +518,7 @@ def _theta0_of_exponent_array(nu, theta1):
         res = np.empty(todo.size)
         # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
         octave = np.floor(np.log2(np.maximum(absq, 1e-300))).clip(-4, None).astype(np.int64)
-        key = k * 4096 + octave
-        for g in np.unique(key):
-            sel = np.nonzero(key == g)[0]
+        for sel in _groups(k * 4096 + octave):
             R = _shifted_rows(float(hi[sel].max()), float(absq[sel].max()))
             res[sel] = _band_eigen(nu_t[sel], absq[sel] ** 2, k[sel], lo[sel], hi[sel], R)
         out[todo] = res
