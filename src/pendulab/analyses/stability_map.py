@@ -5,7 +5,8 @@ Both read theta0 and theta1 from the canonical stage through a
 a cos(omega t): theta0 = -4 (omega0/omega)^2, 000 eq. 5, and
 theta1 = 2 (a/l)/(I/(m l^2)), 000 eq. 6, derived, not typed in here) and the
 Mathieu-plane answers from :mod:`pendulab.analyses.floquet`: the first stable
-band for the limits, the vectorised verdict for the map.
+band for the limits, certified characteristic values (and exact decisions
+next to them) for the map.
 """
 
 from __future__ import annotations
@@ -19,7 +20,6 @@ from pendulab.analyses.floquet._charvalues import (
     _band_at_two_precisions, _band_certified, _first_band_mp, _value_method,
 )
 from pendulab.analyses.floquet._inputs import SIZE_LIMIT, _check_dps, _exact, _mp
-from pendulab.analyses.floquet._vectorised import is_stable
 from pendulab.errors import InputError
 
 __all__ = ["stability_limits", "map_limits", "stability_map", "map_stability"]
@@ -126,7 +126,9 @@ def stability_map(al_values, ratio_values, inertia_ratio=1.0):
     Returns a bool array of shape (len(ratio_values), len(al_values)):
     entry [i, j] is True when a/l = al_values[j] stabilises the inverted
     position at omega0/omega = ratio_values[i] (theta0 = -4 ratio^2,
-    theta1 = 2 (a/l)/inertia_ratio; 000 eqs. 5-6).
+    theta1 = 2 (a/l)/inertia_ratio; 000 eqs. 5-6), equal to the pointwise
+    exact verdict of :func:`characteristic_exponent` at those values, for
+    every stable band in the grid's range (see :func:`map_stability`).
     """
     import numpy as np
 
@@ -142,16 +144,159 @@ def stability_map(al_values, ratio_values, inertia_ratio=1.0):
 
 
 def map_stability(pmap, al_values, ratio_values, **groups):
-    """Stable/unstable map [ratio, a/l] of a Mathieu drive's ParameterMap (vectorised).
+    """Stable/unstable map [ratio, a/l] of a Mathieu drive's ParameterMap.
 
-    theta0, theta1 from the map's NumPy function at every grid point (the other
-    groups, e.g. inertia_ratio, fixed by ``groups``), then :func:`is_stable`.
+    Returns a bool array of shape (len(ratio_values), len(al_values)) equal to
+    the pointwise exact verdicts (:func:`characteristic_exponent` at the exact
+    values of the grid's doubles).  theta0 and theta1 come from the map's NumPy
+    function (the other groups, e.g. inertia_ratio, fixed by ``groups``).
+
+    When theta0 does not involve a/l and theta1 does not involve omega0/omega
+    (read from the map's expressions; the source's drive is such a map) theta0
+    is evaluated once per row and theta1 once per column; otherwise at every
+    point.  Then the characteristic values a_n(|q|), b_n(|q|) below the largest
+    theta0 are computed once per distinct |theta1| with a rigorous error bound
+    (``floquet._vectorised._certify_edges``), every cell is classified by
+    comparing its theta0 with them (stable: an odd number lie below), and the
+    few cells within the bound of a value (widened by the rounding of the
+    map's evaluation, 32 ulps of theta0 and 80 of theta1) are decided one by
+    one by characteristic_exponent on the exact values of the map's
+    expressions.  ``map_stability.last_exact`` holds how many cells needed that.
     """
     import numpy as np
 
-    al = np.asarray(al_values, dtype=float)[None, :]
-    ra = np.asarray(ratio_values, dtype=float)[:, None]
+    from pendulab import symbols as S
+
+    al = np.asarray(al_values, dtype=float).reshape(-1)
+    ra = np.asarray(ratio_values, dtype=float).reshape(-1)
+    shape = (ra.size, al.size)
+    if 0 in shape:
+        map_stability.last_exact = 0
+        return np.zeros(shape, dtype=bool)
+    if not (np.all(np.isfinite(al)) and np.all(np.isfinite(ra))):
+        raise InputError("al_values and ratio_values must be finite (no nan or inf)")
+    if getattr(pmap, "kind", "mathieu") != "mathieu":  # the map's own one-line refusal
+        pmap.evaluate("theta0", dict(groups, a_over_l=al, w0_over_w=ra))
+    separable = not pmap.theta0.has(S.a_over_l) and not pmap.theta1.has(S.w0_over_w)
+    if separable:
+        th0 = np.broadcast_to(np.asarray(pmap.evaluate("theta0", dict(groups, w0_over_w=ra)),
+                                         dtype=float), ra.shape)[:, None]
+        th1 = np.broadcast_to(np.asarray(pmap.evaluate("theta1", dict(groups, a_over_l=al,
+                                                                      w0_over_w=0.0)),
+                                         dtype=float), al.shape)[None, :]
+    else:
+        point = dict(groups, a_over_l=al[None, :], w0_over_w=ra[:, None])
+        th0 = np.broadcast_to(np.asarray(pmap.evaluate("theta0", point), dtype=float), shape)
+        th1 = np.broadcast_to(np.asarray(pmap.evaluate("theta1", point), dtype=float), shape)
+    if not (np.all(np.isfinite(th0)) and np.all(np.isfinite(th1))):
+        raise InputError("theta0 or theta1 of the map is not finite on the grid")
+    size = float(np.max(np.abs(th0))) + 2.0 * float(np.max(np.abs(th1)))
+    if size > SIZE_LIMIT:
+        raise InputError(f"|theta0| + 2|theta1| = {size:.3g} on the grid is too large "
+                         f"(limit {SIZE_LIMIT:g})")
+    out, cells = _classify(th0, th1, shape)
+    for i, j in cells:
+        out[i, j] = _exact_verdict(pmap, groups, float(al[j]), float(ra[i]))
+    map_stability.last_exact = len(cells)
+    return out
+
+
+map_stability.last_exact = 0
+
+#: unit roundoff of double precision
+_U = 2.0 ** -53
+
+
+def _classify(th0, th1, shape):
+    """The map from certified characteristic values: (verdicts, undecided cells).
+
+    th0 broadcasts to ``shape`` as (rows, 1) or (rows, cols), th1 as (1, cols)
+    or (rows, cols).  Returns the bool array and the list of (i, j) whose theta0
+    lies within the error bound of a characteristic value."""
+    import numpy as np
+
+    from pendulab.analyses.floquet._vectorised import _certify_edges
+
+    rows, cols = shape
+    absq = np.abs(th1).ravel()
+    qs, inv = np.unique(absq, return_inverse=True)
+    top = float(np.max(th0))
+    top += 64.0 * _U * abs(top) + 1e-300
+    chunk = 20000
+    parts = [_certify_edges(qs[k:k + chunk], top) for k in range(0, qs.size, chunk)]
+    ne = max(p[0].shape[1] for p in parts)
+    edges = np.full((qs.size, ne), np.inf)
+    width = np.zeros((qs.size, ne))
+    for k, (e, w) in zip(range(0, qs.size, chunk), parts):
+        edges[k:k + e.shape[0], :e.shape[1]] = e
+        width[k:k + e.shape[0], :e.shape[1]] = w
+    # widen by the rounding of theta0 (the cell's, ~ the edge near it) and of
+    # theta1 (|d edge/dq| <= 2.5: the q-derivative is a Rayleigh quotient of the
+    # matrix with entries 1, sqrt 2 that depend on q)
+    with np.errstate(invalid="ignore"):
+        width = width + 32.0 * _U * (np.where(np.isfinite(edges), np.abs(edges), 0.0)
+                                     + 2.5 * qs[:, None]) + 1e-300
+    if th1.shape[0] == 1 and th0.shape[1] == 1:  # separable: per-column edges
+        t0 = th0[:, 0]
+        order = np.argsort(t0, kind="stable")
+        s = t0[order]
+        E = edges[inv]                                # (cols, ne)
+        # in ascending theta0 the count of values below it steps up at P
+        P = np.searchsorted(s, E.ravel(), side="right").reshape(E.shape)
+        bounds = np.concatenate([np.zeros((cols, 1), dtype=P.dtype), P,
+                                 np.full((cols, 1), rows, dtype=P.dtype)], axis=1)
+        counts = np.diff(bounds, axis=1).ravel()
+        parity = np.tile(np.arange(ne + 1) % 2 == 1, cols)
+        by_col = np.repeat(parity, counts).reshape(cols, rows)   # [j, sorted row]
+        if np.array_equal(order, np.arange(rows)):
+            out = by_col.T
+        elif np.array_equal(order, np.arange(rows)[::-1]):
+            out = by_col.T[::-1]
+        else:
+            out = np.empty(shape, dtype=bool)
+            out[order] = by_col.T
+        Wc = width[inv]
+        first = np.searchsorted(s, (E - Wc).ravel(), side="left")
+        last = np.searchsorted(s, (E + Wc).ravel(), side="right")
+        cells = set()
+        for k in np.nonzero(last > first)[0]:
+            cells.update((int(order[r]), int(k // ne)) for r in range(first[k], last[k]))
+        return out, sorted(cells)
+    # general: every cell with its own |q|
+    t0 = np.broadcast_to(th0, shape).ravel()
+    qi = np.broadcast_to(inv.reshape(th1.shape), shape).ravel()
+    flat = np.zeros(t0.size, dtype=bool)
+    near = np.zeros(t0.size, dtype=bool)
+    for b in range(ne):
+        e = edges[qi, b]
+        w = width[qi, b]
+        flat ^= t0 > e
+        near |= np.abs(t0 - e) <= w
+    idx = np.nonzero(near)[0]
+    return flat.reshape(shape), [(int(k // cols), int(k % cols)) for k in idx]
+
+
+def _exact_verdict(pmap, groups, al, ra):
+    """characteristic_exponent's verdict at the exact values of the map's
+    expressions for the doubles al, ra and ``groups`` (rational when the
+    expressions are; otherwise evaluated to 60 digits)."""
+    import sympy as sp
+
+    from pendulab.analyses.floquet._exponent import characteristic_exponent
+
     point = dict(groups, a_over_l=al, w0_over_w=ra)
-    th0 = np.broadcast_to(pmap.evaluate("theta0", point), (ra.shape[0], al.shape[1]))
-    th1 = np.broadcast_to(pmap.evaluate("theta1", point), (ra.shape[0], al.shape[1]))
-    return is_stable(th0, th1)
+    sub = {}
+    for s in pmap.symbols:
+        if s.name in point:
+            f = Fraction(float(point[s.name]))
+            sub[s] = sp.Rational(f.numerator, f.denominator)
+    vals = []
+    for expr in (pmap.theta0, pmap.theta1):
+        v = sp.sympify(expr).subs(sub)
+        if v.is_Float:
+            v = sp.Rational(v)
+        if v.is_Rational:
+            vals.append(Fraction(int(v.p), int(v.q)))
+        else:
+            vals.append(str(sp.N(v, 60)))
+    return bool(characteristic_exponent(vals[0], vals[1]).stable)

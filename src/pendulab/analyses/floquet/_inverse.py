@@ -13,7 +13,9 @@ from pendulab.analyses.floquet._inputs import (
     DOUBLE_DPS, GUARD, SIZE_LIMITS, _check_dps, _check_size, _exact, _is_array, _mp,
 )
 from pendulab.analyses.floquet._precision import agree, autoprec
-from pendulab.analyses.floquet._vectorised import _theta0_of_exponent_array
+from pendulab.analyses.floquet._vectorised import (
+    _theta0_of_exponent_array, _theta0_of_exponent_polished,
+)
 
 
 def theta0_of_exponent(nu, theta1, dps=None):
@@ -62,6 +64,10 @@ def theta0_of_exponent(nu, theta1, dps=None):
         is_int = mpmath.isint(nu_mp) if not isinstance(NU, Fraction) else NU.denominator == 1
     if is_int:
         return mathieu_a(int(NU), -X1 if isinstance(X1, Fraction) else -X1, dps)
+    if dps is None:  # double precision: the eigenvalue of J(nu), refined in mpmath
+        v = _theta0_of_exponent_polished(NU, X1)
+        if v is not None:
+            return v
 
     absq = abs(X1)
 

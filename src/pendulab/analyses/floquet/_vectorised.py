@@ -1,13 +1,16 @@
-"""Vectorised double precision: exponent, verdict, trace and inverse on arrays."""
+"""Vectorised double precision: exponent, verdict, trace and inverse on arrays,
+and the certified characteristic values for many |q| at once (the map's
+boundaries, :func:`_certify_edges`)."""
 
 from __future__ import annotations
 
 import math
 import warnings
 
-from pendulab.errors import AccuracyWarning, InputError
+import mpmath
+
+from pendulab.errors import AccuracyWarning, InputError, PrecisionError
 from pendulab.analyses.floquet._bands import FAMILIES, _edge_index, _family_diagonals, _tail_steps
-from pendulab.analyses.floquet._charvalues import _family_of
 from pendulab.analyses.floquet._exponent import characteristic_exponent
 from pendulab.analyses.floquet._inputs import SIZE_LIMIT
 
@@ -96,18 +99,25 @@ def exponent(theta0, theta1):
 
     The band index comes from the count of characteristic values below theta0
     (eigenvalues of the DLMF 28.4 matrices, as in :func:`is_stable`) and fixes
-    the branch; the trace y = cos(pi lam) comes from Hill's determinant
-    (:func:`trace_monodromy`).  Near a band edge E with exponent e, lam - e
+    the branch.  Inside band k, lam is the root in (k, k+1) of
+    det(J(lam) - theta0), J(lam) the symmetric tridiagonal matrix with diagonal
+    (2n + lam)^2 and off-diagonal theta1 (n in Z; 000 eqs. 9-10 as an
+    eigenproblem in theta0), by safeguarded Newton (:func:`_band_nu`).  In the
+    gaps and below a_0 the trace y = cos(pi lam) comes from Hill's determinant
+    (:func:`trace_monodromy`): near a band edge E with exponent e, lam - e
     would follow from 1 - (-1)^e y, which cancels; it is taken instead as
     d = (-1)^e (y(E) - y(theta0)) with y(E) computed by the same routine, so
     that the (smooth) truncation error of the trace cancels too:
     d = 2 sin^2(pi (lam - e)/2) in a band, -2 sinh^2(pi mu/2) in a gap.
-    Accuracy (measured against 25-digit characteristic_exponent on random
-    points, tests/test_floquet_vectorised.py): about 1e-9 absolute in lam for
-    |theta0|, |theta1| <= 20, also next to the edges (where lam itself depends
-    on theta0 like a square root: an input error of 1e-16 moves it by ~1e-8).
-    Points whose trace overflows a double (|Im lam| > ~200) are computed one by
-    one with characteristic_exponent (double precision, method "hill").
+    Accuracy (docs/floquet.md): in the bands the backward error
+    |lam - nu| d lambda/d nu is below 1.4e-15 max(1, |theta0|) on
+    MathieuFunctions.jl's lambda grid (tests/test_floquet_lambda_grid.py);
+    against 25-digit characteristic_exponent on random points
+    (tests/test_floquet_vectorised.py) about 1e-12 absolute, 1e-10 in the
+    gaps, also next to the edges (where lam itself depends on theta0 like a
+    square root: an input error of 1e-16 moves it by ~1e-8).  Points whose
+    trace overflows a double (|Im lam| > ~200) are computed one by one with
+    characteristic_exponent (double precision, method "hill").
     """
     import numpy as np
 
@@ -117,7 +127,169 @@ def exponent(theta0, theta1):
     out = np.zeros(f0.shape, dtype=complex)
     if f0.size == 0:
         return out.reshape(shape)
-    cnt, below, above = _bands_double(f0, f1)
+    cnt, below, above = _bands_fast(f0, f1)
+    band = cnt % 2 == 1
+    # theta1 = 0: lam = sqrt(theta0) exactly
+    zero = f1 == 0
+    out[zero] = np.sqrt(f0[zero] + 0j)
+    # inside a band: lam real, the root in (k, k+1) of det(J(lam) - theta0)
+    inb = np.nonzero(band & ~zero & np.isfinite(below) & np.isfinite(above))[0]
+    if inb.size:
+        k = (cnt[inb] - 1) // 2
+        absq = np.abs(f1[inb])
+        t0, lo, hi = f0[inb], below[inb], above[inb]
+        lam = np.empty(inb.size)
+        # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
+        octave = np.floor(np.log2(absq)).clip(-4, None).astype(np.int64)
+        for sel in _groups(k * 4096 + octave):
+            R = _shifted_rows(float(hi[sel].max()), float(absq[sel].max()))
+            lam[sel] = _band_nu(t0[sel], absq[sel] ** 2, k[sel], lo[sel], hi[sel], R)
+        out[inb] = lam
+    rest = np.ones(f0.shape, dtype=bool)
+    rest[inb] = False
+    rest &= ~zero
+    ri = np.nonzero(rest)[0]
+    if ri.size:
+        out[ri] = _exponent_by_trace(f0[ri], f1[ri], cnt[ri], below[ri], above[ri])
+    return out.reshape(shape)
+
+
+def _groups(key):
+    """Index arrays of the points sharing each value of ``key`` (one sort)."""
+    import numpy as np
+
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    cuts = np.nonzero(np.diff(ks))[0] + 1
+    return np.split(order, cuts)
+
+
+def _bands_fast(f0, f1):
+    """:func:`_bands_double` from the certified values (batched over |q|) when
+    there are many distinct |q|; LAPACK one |q| at a time otherwise."""
+    import numpy as np
+
+    qs, inv = np.unique(np.abs(f1), return_inverse=True)
+    if qs.size <= 16:
+        return _bands_double(f0, f1)
+    # far enough for the edge above the largest theta0 (successive edges lie
+    # within 2 sqrt(theta0 + 2|q|) + 3 of each other); a point without one
+    # takes the trace route of :func:`exponent`
+    t = max(float(f0.max()), 0.0)
+    reach = float(f0.max()) + 2.0 * math.sqrt(t + 2.0 * float(qs.max())) + 4.0
+    try:
+        E, _ = _certify_edges(qs, reach)
+    except PrecisionError:
+        return _bands_double(f0, f1)
+    Ei = E[inv]
+    cnt = np.sum(Ei < f0[:, None], axis=1)
+    ne = E.shape[1]
+    rows = np.arange(f0.size)
+    below = np.where(cnt > 0, Ei[rows, np.clip(cnt - 1, 0, max(ne - 1, 0))], -np.inf) if ne else \
+        np.full(f0.shape, -np.inf)
+    above = np.where(cnt < ne, Ei[rows, np.clip(cnt, 0, max(ne - 1, 0))], np.inf) if ne else \
+        np.full(f0.shape, np.inf)
+    return cnt, below, above
+
+
+def _band_nu(th0, q2, k, lo, hi, R, chunk=8192):
+    """The exponent lam in (k, k+1) with theta0 = lambda_lam(q): the root of
+    det(J(lam) - theta0) (J of :func:`_band_eigen`), for arrays of one shape
+    whose theta0 lies in band k = (lo, hi).
+
+    Safeguarded Newton in lam (d/dlam of the pivots: u_i' = 2 m_i + (theta1^2 /
+    u_{i-1}) u_{i-1}'/u_{i-1}), the bracket in (k, k+1) kept by the Sturm count
+    (k + 1 eigenvalues below theta0: lam is below the root), bisection when a
+    step leaves it.  Next to an edge lam - e moves like the square root of
+    theta0 - E, so rounding of det at the 1e-16 level gives ~1e-16/(lam - e)."""
+    import numpy as np
+
+    out = np.empty(th0.size)
+    chunk = max(16, min(chunk, int(2e6 // (R + 4))))   # (rows, chunk) at most 16 MB
+    for s in range(0, th0.size, chunk):
+        sl = slice(s, s + chunk)
+        out[sl] = _band_nu_chunk(th0[sl], q2[sl], k[sl], lo[sl], hi[sl], R)
+    return out
+
+
+def _band_nu_chunk(th0, q2, k, lo, hi, R):
+    import numpy as np
+
+    L = int(R) + 4
+    kf = k.astype(float)
+    n0 = 2.0 * np.floor((-R - kf - 1.0) / 2.0)       # 2n of the first row, for all lam in (k, k+1)
+    steps = n0[None, :] + 2.0 * np.arange(L)[:, None]  # exact even integers
+    span = np.maximum(hi - lo, 1e-300)
+    # guess: the trace cos(pi lam) taken as linear in theta0 across the band
+    # and, for a band as wide as at q = 0, sqrt(theta0) with [lo, hi] mapped onto [k^2, (k+1)^2]
+    w = np.clip((th0 - lo) / span, 0.0, 1.0)
+    wide = np.clip(span / (2.0 * kf + 1.0), 0.0, 1.0) ** 2
+    lam = (1.0 - wide) * (kf + np.arccos(1.0 - 2.0 * w) / np.pi) \
+        + wide * np.sqrt(kf * kf + w * (2.0 * kf + 1.0))
+    lam = np.clip(lam, kf + 1e-9, kf + 1.0 - 1e-9)
+    a, b = kf.copy(), kf + 1.0
+    out = lam.copy()
+    idx = np.arange(th0.size)
+    live = np.ones(th0.size, dtype=bool)
+    t0, e2, ka, kfa = th0, q2, k, kf
+    for _it in range(200):
+        if idx.size == 0:
+            break
+        la = lam[idx]
+        r = np.empty_like(la)
+        t = np.empty_like(la)
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            m = steps[0] + la
+            u = m * m - t0
+            cnt = (u < 0).astype(np.int64)
+            g = 2.0 * m / u               # g_i = u_i'/u_i (d/dlam)
+            sm = g.copy()
+            for i in range(1, L):
+                np.divide(e2, u, out=r)   # r = theta1^2/u_{i-1}
+                g *= r                    # u_i' = 2 m_i + r g_{i-1}
+                np.add(steps[i], la, out=m)
+                g += m
+                g += m
+                np.multiply(m, m, out=u)
+                u -= t0
+                u -= r
+                cnt += u < 0
+                g /= u
+                sm += g
+            below = cnt >= ka + 1
+            aa = np.where(below, la, a[idx])
+            bb = np.where(below, b[idx], la)
+            step = 1.0 / sm
+            ln = la - step
+        scale = np.maximum(1.0, np.abs(la))
+        small = np.abs(step) <= 4.0 * _U * scale
+        bad = ~(np.isfinite(ln) & (ln > aa) & (ln < bb)) & ~small
+        ln = np.where(bad, 0.5 * (aa + bb), ln)
+        # the other roots in lam lie at 2j - lam* (outside (k, k+1)) and beyond
+        dist = np.minimum(ln - kfa, kfa + 1.0 - ln)
+        early = ~bad & (step * step * L <= 0.25 * _U * scale * dist)
+        done = small | early | (bb - aa <= 4.0 * _U * scale)
+        a[idx], b[idx] = aa, bb
+        lam[idx] = np.where(live[idx], ln, lam[idx])
+        fin = idx[done & live[idx]]
+        out[fin] = lam[fin]
+        live[fin] = False
+        keep = live[idx]
+        if not keep.any():
+            idx = idx[:0]
+            break
+        if keep.sum() <= 0.5 * idx.size:
+            idx, steps = idx[keep], steps[:, keep]
+            t0, e2, ka, kfa = t0[keep], e2[keep], ka[keep], kfa[keep]
+    out[live] = lam[live]
+    return out
+
+
+def _exponent_by_trace(f0, f1, cnt, below, above):
+    """lam from Hill's determinant (the gaps, below a_0, and the rest; see
+    :func:`exponent`)."""
+    import numpy as np
+
     y = trace_monodromy(f0, f1) / 2.0
     band = cnt % 2 == 1
     k = np.where(band, (cnt - 1) // 2, cnt // 2)
@@ -141,41 +313,177 @@ def exponent(theta0, theta1):
     bad = ~(np.isfinite(y) & np.isfinite(yE) & (np.abs(y) < 1e300))
     for i in np.nonzero(bad)[0]:
         out[i] = complex(characteristic_exponent(float(f0[i]), float(f1[i])).lam)
-    return out.reshape(shape)
+    return out
 
 
-def _char_values_double(theta1_values, kind_order):
-    """a_n(q) or b_n(q), q = -theta1, for each distinct theta1 (double precision).
+def _shifted_rows(top, absq, digits=8):
+    """Truncation of J(nu): rows m = 2n + nu with |m| <= R, R from the tail rule
+    (eigenvector components below 10^-digits there, so that the eigenvalue,
+    which changes with their square, is exact to 10^-(2 digits)) for theta0 <= top."""
+    m0 = _edge_index(top, absq)
+    return m0 + 2 * _tail_steps(top, absq, m0, digits)
 
-    kind_order: list of ("a"|"b", n); returns dict (theta1, kind, n) -> value."""
+
+def _theta0_of_exponent_polished(NU, X1):
+    """theta0_of_exponent(nu, theta1) to double precision for one non-integer nu
+    and theta1 != 0 (exact inputs: Fraction or mpf).
+
+    The vectorised root (:func:`_band_eigen`) refined by Newton on
+    det(J(nu) - x) in mpmath, at 30 digits with rows to 10^-16 and at 40 digits
+    with four more rows; returns None (the caller then solves the cf function)
+    when the two differ by more than 1e-22 relative, Newton does not settle, or
+    the result leaves the band or moves from the double root by more than 1e-10."""
     import numpy as np
-    from scipy.linalg import eigvalsh_tridiagonal
 
-    out = {}
-    top = max(n for _, n in kind_order) if kind_order else 0
-    for th1 in np.unique(theta1_values):
-        q = -float(th1)
-        size = float(top * top) + 2.0 * abs(q)
-        m0 = _edge_index(size, q)
-        n = m0 // 2 + top // 2 + _tail_steps(size, q, m0, 18) + 3
-        vals = {}
-        for fam in FAMILIES:
-            d, e2 = _family_diagonals(fam, q, n, 1.0)
-            vals[fam] = np.sort(eigvalsh_tridiagonal(np.asarray(d, float),
-                                                     np.sqrt(np.asarray(e2, float))))
-        for kind, m in kind_order:
-            fam, j = _family_of(kind, m)
-            out[(float(th1), kind, m)] = float(vals[fam][j])
+    nu_f, th_f = float(NU), float(X1)
+    k = math.floor(NU)
+    if nu_f != nu_f or math.floor(nu_f) != k or nu_f == k:
+        return None
+    lo, hi = _band_edges(np.array([abs(th_f)]), np.array([k], dtype=np.int64))
+    x0 = float(_band_eigen(np.array([nu_f]), np.array([th_f * th_f]), np.array([k]), lo, hi,
+                           _shifted_rows(float(hi[0]), abs(th_f)))[0])
+    lo, hi = float(lo[0]), float(hi[0])
+    scale = max(1.0, abs(x0))
+    R = _shifted_rows(hi, abs(th_f), 16)
+    found = []
+    for dps, extra in ((30, 0), (40, 4)):
+        with mpmath.workdps(dps):
+            nu = mpmath.mpf(NU.numerator) / NU.denominator if hasattr(NU, "denominator") else +NU
+            th = mpmath.mpf(X1.numerator) / X1.denominator if hasattr(X1, "denominator") else +X1
+            q2 = th * th
+            Rm = R + 2 * extra
+            n0 = 2 * math.floor((-Rm - nu_f) / 2.0)
+            diag = [(nu + (n0 + 2 * i)) ** 2 for i in range(Rm + 2)]
+            x = mpmath.mpf(x0)
+            tol = mpmath.mpf(10) ** (5 - dps) * scale
+            for _ in range(12):
+                u = diag[0] - x
+                du = mpmath.mpf(-1)
+                s = du / u
+                for d in diag[1:]:
+                    r = q2 / u
+                    du = -1 + r * du / u
+                    u = d - x - r
+                    s += du / u
+                step = 1 / s
+                x -= step
+                if abs(step) <= tol:
+                    break
+            else:
+                return None
+            found.append(x)
+    with mpmath.workdps(40):
+        if abs(found[0] - found[1]) > mpmath.mpf(10) ** -22 * scale:
+            return None
+    v = float(found[1])
+    if not (lo - 1e-9 * scale <= v <= hi + 1e-9 * scale) or abs(v - x0) > 1e-10 * scale:
+        return None
+    return v
+
+
+def _band_eigen(nu, q2, k, lo, hi, R, chunk=8192):
+    """The k-th eigenvalue (0-based) of J(nu): rows m = 2n + nu (n integer,
+    |m| <= R), diagonal m^2, off-diagonal theta1 (squared: q2), for arrays nu,
+    q2, k, lo, hi of one shape; lo < eigenvalue < hi is the band.
+
+    Safeguarded Newton on det(J - x) (pivots u_i of LDL^T: f'/f = sum u_i'/u_i),
+    the bracket kept by the Sturm count (k below x: x is above the root),
+    bisection when a step leaves the bracket.  The count is exact for off-
+    diagonals perturbed by 2.5 ulp (Kahan), so the root is the eigenvalue of
+    the float matrix to a few ulps of max(|x|, |q|).  Worked in chunks that
+    stay in the cache."""
+    import numpy as np
+
+    out = np.empty(nu.size)
+    chunk = max(16, min(chunk, int(2e6 // (R + 4))))   # (rows, chunk) at most 16 MB
+    for s in range(0, nu.size, chunk):
+        sl = slice(s, s + chunk)
+        out[sl] = _band_eigen_chunk(nu[sl], q2[sl], k[sl], lo[sl], hi[sl], R)
+    return out
+
+
+def _band_eigen_chunk(nu, q2, k, lo, hi, R):
+    import numpy as np
+
+    L = int(R) + 2
+    # diagonal m^2, m = 2n + nu with one rounding (the row n = 0 is nu itself)
+    n0 = 2.0 * np.floor((-R - nu) / 2.0)                # 2n of the first row
+    D = ((n0[None, :] + 2.0 * np.arange(L)[:, None]) + nu[None, :]) ** 2
+    span = np.maximum(hi - lo, 0.0)
+    kk = k.astype(float)
+    # guess: the trace cos(pi nu) taken as linear in theta0 across the band
+    # (from +-1 at lo to -+1 at hi; exact for a thin band)
+    # and, for a band as wide as at q = 0, the q = 0 value nu^2 mapped onto it
+    wide = np.clip(span / (2.0 * kk + 1.0), 0.0, 1.0) ** 2
+    w = (1.0 - wide) * (0.5 - 0.5 * np.cos(np.pi * (nu - kk))) \
+        + wide * np.clip((nu * nu - kk * kk) / (2.0 * kk + 1.0), 0.0, 1.0)
+    x = lo + span * w
+    x = np.clip(x, lo, hi)
+    a, b = lo.copy(), hi.copy()
+    out = x.copy()
+    idx = np.arange(nu.size)        # the points still iterating (columns of D)
+    live = np.ones(nu.size, dtype=bool)
+    e2, ka, la, ha = q2, k, lo, hi
+    for _it in range(120):
+        if idx.size == 0:
+            break
+        xa = x[idx]
+        r = np.empty_like(xa)
+        t = np.empty_like(xa)
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            u = D[0] - xa
+            cnt = (u < 0).astype(np.int64)
+            g = -1.0 / u                  # g_i = u_i'/u_i
+            sm = g.copy()
+            for i in range(1, L):
+                np.divide(e2, u, out=r)   # r = theta1^2/u_{i-1}
+                g *= r
+                g -= 1.0                  # u_i' = -1 + r g_{i-1}
+                np.subtract(D[i], xa, out=u)
+                u -= r
+                cnt += u < 0
+                g /= u
+                sm += g
+            below = cnt <= ka
+            aa = np.where(below, xa, a[idx])
+            bb = np.where(below, b[idx], xa)
+            step = 1.0 / sm
+            xn = xa - step
+        scale = np.maximum(1.0, np.abs(xa))
+        # a step at rounding level is the root (it may cross the bracket's end
+        # by rounding); otherwise a step out of the bracket is replaced by bisection
+        small = np.abs(step) <= 4.0 * _U * scale
+        bad = ~(np.isfinite(xn) & (xn > aa) & (xn < bb)) & ~small
+        xn = np.where(bad, 0.5 * (aa + bb), xn)
+        # Newton's next error is about step^2 sum 1/|lambda_i - x| over the other
+        # eigenvalues, all outside the band: below step^2 L / dist
+        dist = np.minimum(xn - la, ha - xn)
+        early = ~bad & (step * step * L <= 0.25 * _U * scale * dist)
+        done = small | early | (bb - aa <= 4.0 * _U * scale)
+        a[idx], b[idx] = aa, bb
+        x[idx] = np.where(live[idx], xn, x[idx])
+        fin = idx[done & live[idx]]
+        out[fin] = x[fin]
+        live[fin] = False
+        keep = live[idx]
+        if not keep.any():
+            idx = idx[:0]
+            break
+        if keep.sum() <= 0.5 * idx.size:       # compact the columns still iterating
+            idx, D = idx[keep], D[:, keep]
+            e2, ka, la, ha = e2[keep], ka[keep], la[keep], ha[keep]
+    out[live] = x[live]
     return out
 
 
 def _theta0_of_exponent_array(nu, theta1):
     """Vectorised theta0_of_exponent in double precision (see its docstring).
 
-    Non-integer nu: bisection in the band [lo, hi] (edges from :func:`_bands_double`
-    at the band's midpoint count) on d(theta0) = d*, with d the edge-referenced
-    trace difference of :func:`exponent` and d* = 2 sin^2(pi (nu - e)/2) for the
-    integer e nearest nu; d is monotone in the band.  Integer nu: a_nu(q), q = -theta1.
+    Non-integer nu in band k = floor(nu): theta0 is the k-th eigenvalue (0-based)
+    of the symmetric tridiagonal J(nu) with diagonal (2n + nu)^2 and off-diagonal
+    theta1, n in Z (000 eqs. 9-10 read as an eigenproblem in theta0; its spectrum
+    is lambda_{|nu + 2m|}(q), one value in each band), found between the band
+    edges by :func:`_band_eigen`.  Integer nu: a_nu(q), q = -theta1.
     """
     import numpy as np
 
@@ -194,42 +502,69 @@ def _theta0_of_exponent_array(nu, theta1):
     is_int = (fn == np.floor(fn)) & ~zero_q
     out[zero_q] = fn[zero_q] ** 2
     if np.any(is_int):
+        # a_n(q), q = -theta1: with the values at |q| sorted, e_0 < e_1 < ... is
+        # a_0 < b_1 < a_1 < b_2 < ... (DLMF 28.2.22); a_{2j}(q) = a_{2j}(|q|) and
+        # a_{2j+1}(q) = b_{2j+1}(|q|) for q < 0 (DLMF 28.2.26)
         ii = np.nonzero(is_int)[0]
-        orders = sorted({("a", int(v)) for v in fn[ii]})
-        vals = _char_values_double(f1[ii], orders)
-        out[ii] = [vals[(float(t), "a", int(v))] for t, v in zip(f1[ii], fn[ii])]
+        n_i = fn[ii].astype(np.int64)
+        q_i = -f1[ii]
+        idx = np.where(n_i == 0, 0, np.where(q_i > 0, 2 * n_i, np.where(n_i % 2 == 0, 2 * n_i, 2 * n_i - 1)))
+        out[ii] = _sorted_edges_at(np.abs(q_i), idx)
     todo = np.nonzero(~zero_q & ~is_int)[0]
     if todo.size:
-        nu_t, q_t = fn[todo], f1[todo]
-        k = np.floor(nu_t).astype(int)
-        e = np.rint(nu_t).astype(int)
-        # band edges: the (2k+1)-th and (2k+2)-th characteristic values at |q|
-        lo = np.empty(todo.size)
-        hi = np.empty(todo.size)
-        for q in np.unique(np.abs(q_t)):
-            idx = np.nonzero(np.abs(q_t) == q)[0]
-            top = float((k[idx].max() + 1) ** 2) + 2.0 * q + 1.0
-            edges = _edges_double(float(q), top)
-            lo[idx] = edges[2 * k[idx]]
-            hi[idx] = edges[2 * k[idx] + 1]
-        E = np.where(e == k, lo, hi)
-        se = np.where(e % 2 == 0, 1.0, -1.0)
-        yE = trace_monodromy(E, q_t) / 2.0
-        target = 2.0 * np.sin(np.pi * (nu_t - e) / 2.0) ** 2
-        # d(theta0) - target is > 0 on the side of E's far end: orient so that
-        # phi = (d - target) * orient is increasing in theta0
-        orient = np.where(e == k, 1.0, -1.0)
-        a, b = lo.copy(), hi.copy()
-        for _ in range(200):
-            mid = 0.5 * (a + b)
-            d = se * (yE - trace_monodromy(mid, q_t) / 2.0)
-            phi = (d - target) * orient
-            a = np.where(phi < 0, mid, a)
-            b = np.where(phi < 0, b, mid)
-            if np.all(b - a <= 4e-16 * np.maximum(1.0, np.abs(mid))):
-                break
-        out[todo] = 0.5 * (a + b)
+        nu_t, absq = fn[todo], np.abs(f1[todo])
+        k = np.floor(nu_t).astype(np.int64)
+        lo, hi = _band_edges(absq, k)
+        res = np.empty(todo.size)
+        # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
+        octave = np.floor(np.log2(np.maximum(absq, 1e-300))).clip(-4, None).astype(np.int64)
+        for sel in _groups(k * 4096 + octave):
+            R = _shifted_rows(float(hi[sel].max()), float(absq[sel].max()))
+            res[sel] = _band_eigen(nu_t[sel], absq[sel] ** 2, k[sel], lo[sel], hi[sel], R)
+        out[todo] = res
     return out.reshape(shape)
+
+
+def _sorted_edges_at(absq, idx):
+    """The idx-th (0-based) of the sorted characteristic values a_n, b_n at each
+    |q| (arrays of one shape): certified values (:func:`_certify_edges`), or
+    LAPACK per distinct |q| (:func:`_edges_double`) where that is refused."""
+    import numpy as np
+
+    qs, inv = np.unique(absq, return_inverse=True)
+    imax = int(idx.max())
+    top = (imax // 2 + 1.0) ** 2 + 3.0 * float(qs.max()) + 1.0
+    ok = False
+    if qs.size > 16:  # batched; a few |q| are quicker one by one
+        try:
+            E, _ = _certify_edges(qs, top)
+            ok = E.shape[1] > imax
+        except PrecisionError:
+            pass
+    if ok:
+        vals = E[inv, idx]
+        if np.all(np.isfinite(vals)):
+            return vals
+    vals = np.empty(idx.size)
+    for i, q in enumerate(qs):
+        sel = np.nonzero(inv == i)[0]
+        edges = _edges_double(float(q), (int(idx[sel].max()) // 2 + 1.0) ** 2 + 2.0 * q + 1.0)
+        vals[sel] = edges[idx[sel]]
+    return vals
+
+
+def _band_edges(absq, k):
+    """Edges (e_{2k}, e_{2k+1}) of stable band k at each |q| (arrays of one shape)."""
+    import numpy as np
+
+    qs, inv = np.unique(absq, return_inverse=True)
+    kq = np.zeros(qs.size, dtype=np.int64)
+    np.maximum.at(kq, inv, k)
+    # every edge up to e_{2 kq + 1} for each distinct |q|: one table, two look-ups
+    width = 2 * int(kq.max()) + 2
+    table = _sorted_edges_at(np.repeat(qs, width), np.tile(np.arange(width), qs.size))
+    table = table.reshape(qs.size, width)
+    return table[inv, 2 * k], table[inv, 2 * k + 1]
 
 
 def is_stable(theta0, theta1, rtol=1e-12):
@@ -328,3 +663,280 @@ def trace_monodromy(theta0, theta1):
         cs = np.where(s == 0, 1.0, -1.0)
         y = cs + delta * (cr - cs)
     return (2.0 * y).reshape(shape)
+
+
+# ---------------------------------------------------------------------------
+# Certified characteristic values for many |q| at once (the map's boundaries)
+# ---------------------------------------------------------------------------
+
+#: unit roundoff of IEEE double precision
+_U = 2.0 ** -53
+
+
+def _diag_base(family, n):
+    """Row j's diagonal (2j)^2, (2j+1)^2 or (2j+2)^2 of a DLMF 28.4 family (exact floats)."""
+    import numpy as np
+
+    j = np.arange(n, dtype=float)
+    off = {"a_even": 0.0, "a_odd": 1.0, "b_odd": 1.0, "b_even": 2.0}[family]
+    return (2.0 * j + off) ** 2
+
+
+def _family_rows(fams, q, n, side=0):
+    """Diagonals (n, M) and squared off-diagonals (n-1, M) of the DLMF 28.4
+    matrices (see :func:`_family_diagonals`), one column per (family, q) pair:
+    ``fams`` (M,) indexes FAMILIES, ``q`` (M,) the q of each column.
+
+    ``side`` = +1 / -1 rounds the one inexact diagonal entry (1 +- q of the odd
+    families) up / down, so that the float matrix is >= / <= the exact one in
+    the Loewner order; -1 also lowers the last diagonal entry by |q| (the
+    coupling to the neglected tail, see :func:`_certify_edges`)."""
+    import numpy as np
+
+    q = np.asarray(q, dtype=float)
+    fams = np.asarray(fams)
+    off = np.array([0.0, 1.0, 1.0, 2.0])[fams]          # a_even, a_odd, b_odd, b_even
+    j = np.arange(n, dtype=float)[:, None]
+    d = (2.0 * j + off[None, :]) ** 2
+    odd = (fams == 1) | (fams == 2)
+    d0 = np.where(fams == 1, 1.0 + q, 1.0 - q)
+    if side:
+        d0 = np.nextafter(d0, side * np.inf)
+    d[0] = np.where(odd, d0, d[0])
+    if side < 0:
+        d[-1] = np.nextafter(d[-1] - np.abs(q), -np.inf)
+    e2 = np.repeat((q * q)[None, :], n - 1, axis=0)
+    if n > 1:
+        e2[0] = np.where(fams == 0, 2.0 * e2[0], e2[0])
+    return d, e2
+
+
+def _sided(d, fams, q, side):
+    """:func:`_family_rows`'s ``side`` variants from its side-0 diagonals ``d``."""
+    import numpy as np
+
+    out = d.copy()
+    odd = (fams == 1) | (fams == 2)
+    if odd.any():
+        out[0, odd] = np.nextafter(d[0, odd], side * np.inf)
+    if side < 0:
+        out[-1] = np.nextafter(d[-1] - np.abs(q), -np.inf)
+    return out
+
+
+def _sturm_count_vec(d, e2, x):
+    """Number of eigenvalues < x of each symmetric tridiagonal (columns of d, e2),
+    counted in floating point by the LDL^T pivots.
+
+    Kahan's lemma: when d and x are doubles, the floating-point count is the
+    exact count of a matrix whose squared off-diagonal entries are perturbed by
+    at most ~5 u relative (u the unit roundoff) and whose diagonal is exact, so
+    by Weyl's theorem its eigenvalues are within :func:`_count_eta` of the
+    float matrix's."""
+    import numpy as np
+
+    cnt = np.zeros(np.shape(x), dtype=np.int64)
+    p = None
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        for i in range(d.shape[0]):
+            p = d[i] - x if i == 0 else d[i] - x - e2[i - 1] / p
+            p[p == 0.0] = -1e-290
+            cnt += p < 0
+    return cnt
+
+
+def _count_eta(q):
+    """Eigenvalue shift bounding the rounding of :func:`_sturm_count_vec`:
+    2 max|delta b| <= 2 * 3 u * sqrt(2) |q| (Kahan, Weyl; q^2 rounded too),
+    with a factor of two to spare, plus the zero-pivot replacement 1e-290."""
+    import numpy as np
+
+    return 16.0 * _U * np.abs(q) + 1e-280
+
+
+def _newton_eigen(d, e2, x, iters=8):
+    """Newton steps x <- x - f/f' on f = det(T - x) for each column (through the
+    LDL^T pivots u_i: f'/f = sum u_i'/u_i); a zero pivot means x is an
+    eigenvalue of the float matrix and stops that column."""
+    import numpy as np
+
+    x = np.array(x, dtype=float)
+    live = np.ones(x.shape, dtype=bool)
+    for _ in range(iters):
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            u = d[0] - x
+            hit = u == 0.0
+            du = -1.0
+            s = -1.0 / u
+            for i in range(1, d.shape[0]):
+                r = e2[i - 1] / u
+                du = -1.0 + r * du / u
+                u = d[i] - x - r
+                hit |= u == 0.0
+                s = s + du / u
+            step = 1.0 / s
+        step = np.where(np.isfinite(step) & ~hit & live, step, 0.0)
+        x = x - step
+        live &= np.abs(step) > 2 * _U * np.maximum(1.0, np.abs(x))
+        if not live.any():
+            break
+    return x
+
+
+def _family_size(qmax, top):
+    """Truncation (rows) of the DLMF 28.4 matrices for eigenvalues up to ``top``
+    at |q| <= qmax: past the block where |C_m| > 2|q| the tail factors of
+    :func:`_tail_steps` bring the neglected part below 1e-18."""
+    t = max(float(top), 0.0) + 2.0 * float(qmax)
+    m0 = _edge_index(t, qmax)
+    return m0 // 2 + _tail_steps(t, qmax, m0, 18) + 3
+
+
+def _newton_certify(cf, qq, cj, x0, n):
+    """Newton from x0 and the certificate of :func:`_certify_edges` for the
+    columns (family cf, |q| qq, index cj); returns (x, width), width nan where
+    the certificate failed even with a LAPACK value and delta = 1e-9."""
+    import numpy as np
+    from scipy.linalg import eigvalsh_tridiagonal
+
+    d, e2 = _family_rows(cf, qq, n)
+    x = _newton_eigen(d, e2, x0)
+    dp, dm = _sided(d, cf, qq, +1), _sided(d, cf, qq, -1)
+    eta = _count_eta(qq)
+    tail_lo = ((2.0 * n + np.array([0.0, 1.0, 1.0, 2.0])[cf]) ** 2 - 2.0 * qq) * (1.0 - 1e-15)
+    width = np.full(x.shape, np.nan)
+    for delta_rel in (1e-13, 1e-9):
+        todo = np.isnan(width)
+        if not todo.any():
+            break
+        delta = delta_rel * np.maximum(1.0, np.abs(x)) + 4.0 * eta
+        ok = ((_sturm_count_vec(dp, e2, x + delta) >= cj + 1)
+              & (_sturm_count_vec(dm, e2, x - delta) <= cj)
+              & (x + delta + eta < tail_lo))
+        width = np.where(todo & ok, delta + 2.0 * eta + 4.0 * _U * np.abs(x), width)
+        for b in np.nonzero(np.isnan(width))[0]:
+            dd, ee = _family_diagonals(FAMILIES[cf[b]], float(qq[b]), n, 1.0)
+            x[b] = eigvalsh_tridiagonal(np.asarray(dd, float), np.sqrt(np.asarray(ee, float)),
+                                        select="i", select_range=(cj[b], cj[b]))[0]
+    return x, width
+
+
+def _certify_edges(qs, theta0_max, nodes=40):
+    """Certified characteristic values below ``theta0_max`` for each |q| in ``qs``.
+
+    qs: 1-D, sorted, distinct, >= 0.  Returns (edges, width), both of shape
+    (len(qs), E): edges sorted per row and +inf padded; every exact
+    characteristic value a_n(q), b_n(q) (all n) below theta0_max lies within
+    +-width of exactly one finite entry of its row, and there is none other
+    below theta0_max.
+
+    Predictor: eigenvalues of the DLMF 28.4.5-28.4.8 matrices at up to
+    ``nodes`` values of q (numpy.linalg.eigvalsh on the stacked matrices),
+    interpolated in q by a cubic spline; corrector: Newton on the
+    determinant; certificate, for the k-th eigenvalue x of a family:
+    Sturm count >= k + 1 at x + delta for the n-row truncation with its
+    inexact diagonal entry rounded up (>= the exact truncation, whose k-th
+    eigenvalue is >= the infinite matrix's by Cauchy interlacing), and
+    count <= k at x - delta for the truncation with the tail coupling folded
+    into its last diagonal entry (T_inf >= diag(T_n - |q| e_n e_n^T, tail - |q|
+    e_1 e_1^T), and the tail has no eigenvalue below d_n - 2|q|, Gershgorin),
+    each count exact up to :func:`_count_eta` (Kahan's lemma, Weyl).  A failed
+    certificate is retried with a LAPACK eigenvalue and a wider delta (1e-9).
+    The count at theta0_max certifies that no further value lies below it."""
+    import numpy as np
+    from scipy.interpolate import CubicSpline
+    from scipy.linalg import eigvalsh_tridiagonal
+
+    qs = np.asarray(qs, dtype=float)
+    nq = qs.size
+    top = float(theta0_max)
+    if nq == 0:
+        return np.zeros((0, 0)), np.zeros((0, 0))
+    qmax = float(qs.max())
+    n = _family_size(qmax, top)
+    ni = np.arange(nq) if nq <= nodes else np.unique(np.linspace(0, nq - 1, nodes).round().astype(int))
+    qn = qs[ni]
+    nf = len(FAMILIES)
+    margin = 1.0 + 0.5 * abs(top)
+    fn = np.repeat(np.arange(nf), qn.size)
+    dn, e2n = _family_rows(fn, np.tile(qn, nf), n)
+    if n <= 48:
+        # predictor: all four families at the nodes in one stacked eigvalsh
+        A = np.zeros((fn.size, n, n))
+        i = np.arange(n)
+        A[:, i, i] = dn.T
+        A[:, i[:-1], i[:-1] + 1] = np.sqrt(e2n.T)
+        A[:, i[:-1] + 1, i[:-1]] = np.sqrt(e2n.T)
+        node_vals = np.linalg.eigvalsh(A).reshape(nf, qn.size, n)
+    else:
+        # large matrices: LAPACK by index, as many values as lie below top anywhere
+        sq = np.sqrt(e2n)
+        cnt = [eigvalsh_tridiagonal(dn[:, c], sq[:, c], select="v",
+                                    select_range=(-np.inf, top + margin)).size
+               for c in range(fn.size)]
+        J = min(max(cnt) + 1, n)
+        node_vals = np.full((fn.size, n), np.inf)
+        for c in range(fn.size):
+            node_vals[c, :J] = eigvalsh_tridiagonal(dn[:, c], sq[:, c], select="i",
+                                                    select_range=(0, J - 1))
+        node_vals = node_vals.reshape(nf, qn.size, n)
+    # Gershgorin: a family with no eigenvalue below top at some q is skipped there
+    lo_bound = np.stack([-2.0 * np.sqrt(2.0) * qs] + [np.minimum(1.0 - qs, 9.0 - 2 * qs) - qs] * 2
+                        + [4.0 - 2.0 * qs])
+    curves = [(f, j) for f in range(nf)
+              for j in range(min(int(np.max(np.sum(node_vals[f] <= top + margin, axis=1))), n - 2))]
+    if not curves:
+        g_all = np.zeros((nq, 0))
+    elif qn.size == nq:
+        g_all = np.stack([node_vals[f, :, j] for f, j in curves], axis=1)
+    else:
+        y = np.stack([node_vals[f, :, j] for f, j in curves], axis=1)
+        g_all = CubicSpline(qn, y, axis=0)(qs) if qn.size >= 4 else \
+            np.stack([np.interp(qs, qn, y[:, c]) for c in range(y.shape[1])], axis=1)
+    cols_f, cols_q, cols_j, guesses = [], [], [], []
+    for c, (f, j) in enumerate(curves):
+        g = g_all[:, c]
+        sel = np.nonzero((g <= top + margin) & (lo_bound[f] <= top))[0]
+        cols_f.append(np.full(sel.size, f))
+        cols_q.append(sel)
+        cols_j.append(np.full(sel.size, j))
+        guesses.append(g[sel])
+    cf = np.concatenate(cols_f) if cols_f else np.zeros(0, int)
+    cq = np.concatenate(cols_q) if cols_q else np.zeros(0, int)
+    cj = np.concatenate(cols_j) if cols_j else np.zeros(0, int)
+    qq = qs[cq]
+    x0 = np.concatenate(guesses) if guesses else np.zeros(0)
+    x = np.empty(x0.shape)
+    width = np.full(x0.shape, np.nan)
+    block = max(256, int(4e6 // n))        # (n, block) arrays of at most 32 MB
+    for s0 in range(0, x0.size, block):
+        sl = slice(s0, s0 + block)
+        x[sl], width[sl] = _newton_certify(cf[sl], qq[sl], cj[sl], x0[sl], n)
+    # no further eigenvalue below top: count at top (+ eta) <= the number kept
+    kept = np.zeros((nf, nq), dtype=np.int64)
+    np.add.at(kept, (cf, cq), 1)
+    jmax = np.zeros((nf, nq), dtype=np.int64)
+    np.maximum.at(jmax, (cf, cq), cj + 1)
+    af, aq = np.nonzero(lo_bound <= top + 1.0)
+    above = np.ones(af.size, dtype=bool)
+    for s0 in range(0, af.size, block):
+        sl = slice(s0, s0 + block)
+        d1, e21 = _family_rows(af[sl], qs[aq[sl]], n, side=-1)
+        above[sl] = (_sturm_count_vec(d1, e21, np.full(d1.shape[1], top)
+                                      + 2.0 * _count_eta(qs[aq[sl]])) <= kept[af[sl], aq[sl]])
+    above &= top + 1.0 < ((2.0 * n + np.array([0.0, 1.0, 1.0, 2.0])[af]) ** 2 - 2.0 * qs[aq]) * 0.999
+    if not (above.all() and np.array_equal(kept, jmax) and not np.isnan(width).any()):
+        raise PrecisionError("could not certify the characteristic values of the map "
+                             f"(|q| up to {qmax:g}, theta0 up to {top:g}) in double precision")
+    keep = x - width <= top
+    E = int(np.max(np.bincount(cq[keep], minlength=nq), initial=0))
+    edges = np.full((nq, E), np.inf)
+    wout = np.zeros((nq, E))
+    if E:
+        order = np.lexsort((x[keep], cq[keep]))
+        rows = cq[keep][order]
+        start = np.searchsorted(rows, np.arange(nq))
+        pos = np.arange(rows.size) - start[rows]
+        edges[rows, pos] = x[keep][order]
+        wout[rows, pos] = width[keep][order]
+    return edges, wout
