@@ -117,9 +117,9 @@ def _stages(spec):
 
 
 def _derive(spec):
-    from pendulab.canonical import periodic_form
     from pendulab.equations import derive
     from pendulab.exprs import parse
+    from pendulab.pipeline import canonical_form
     from pendulab.systems import DrivenPivot
 
     kwargs = {"body": spec.body, "angle": spec.angle}
@@ -128,7 +128,7 @@ def _derive(spec):
     if spec.inertia is not None:
         kwargs["inertia_value"] = parse(spec.inertia)
     eqs = derive(DrivenPivot(**kwargs))
-    return eqs, periodic_form(eqs)
+    return eqs, canonical_form(eqs)
 
 
 _SYSTEMS = {}
