@@ -161,20 +161,35 @@ def _param_columns(spec, fos):
     return names
 
 
+#: spec -> (its stages, the function of mathieu_pair): lambdified once per system and process
+_PAIRS = {}
+
+
 def mathieu_pair(spec):
     """f(a_over_l, w0_over_w) -> (theta0, theta1) as NumPy arrays, from the canonical stage.
 
     The pair is :func:`pendulab.numerics.model.mathieu_parameters` lambdified
     (000 eqs. 5-6 as derived, never typed); a drive whose canonical form is
-    not Mathieu's is refused in one line.
+    not Mathieu's is refused in one line.  Made once per ``spec`` (and its
+    stages) in a process: a build's sweeps, pruning plans and Floquet
+    verdicts ask for it a score of times.
     """
+    stages = _stages(spec)
+    made = _PAIRS.get(spec)
+    if made is None or made[0] is not stages:
+        if len(_PAIRS) >= 64:
+            _PAIRS.clear()
+        made = _PAIRS[spec] = (stages, _make_mathieu_pair(spec, *stages))
+    return made[1]
+
+
+def _make_mathieu_pair(spec, eqs, form):
     import numpy as np
     import sympy as sp
 
     from pendulab import symbols as S
     from pendulab.numerics.model import mathieu_parameters
 
-    eqs, form = _stages(spec)
     if form.kind != "mathieu":
         raise InputError(f"the drive gives a {form.kind} equation, not Mathieu's: no (theta0, theta1) "
                          "pair (the floquet criterion uses the monodromy matrix; pruning and the "
