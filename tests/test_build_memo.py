@@ -109,3 +109,22 @@ def test_shared_pdf_font_subsets_give_matplotlibs_bytes():
     assert made >= 2 and len(figures._SUBSETS) == made
     assert first == second == plain.getvalue()
     assert _backend_pdf_ps.get_glyphs_subset is real  # matplotlib's function is back in place
+
+
+def test_is_zero_proves_bessel_identities_and_refuses_the_others():
+    """The closed form's zero test (pendulab.analyses.bessel.is_zero): DLMF 10.6.1 and 10.6.2
+    are zero by the fast route; expressions that are not zero are not; a zero the fast route
+    cannot see (a trigonometric one) is left to simplify."""
+    import sympy as sp
+
+    from pendulab.analyses.bessel import _fast_zero, is_zero
+    x, a = sp.symbols("x a", positive=True)
+    J, Y = sp.besselj, sp.bessely
+    recurrence = J(0, 3 * sp.sqrt(x)) + J(2, 3 * sp.sqrt(x)) - 2 / (3 * sp.sqrt(x)) * J(1, 3 * sp.sqrt(x))
+    derivative = sp.diff(Y(3, a * x), x) - a * (Y(2, a * x) - Y(4, a * x)) / 2       # DLMF 10.6.1-2
+    assert _fast_zero(recurrence) and is_zero(recurrence)
+    assert _fast_zero(sp.expand(derivative)) and is_zero(derivative)
+    for other in (J(0, x) - J(2, x), J(1, x) - Y(1, x), recurrence + 1 / x, x * J(3, x) - 4 * J(2, x)):
+        assert not _fast_zero(other) and not is_zero(other)
+    trig = sp.sin(x) ** 2 + sp.cos(x) ** 2 - 1
+    assert not _fast_zero(trig) and is_zero(trig)
