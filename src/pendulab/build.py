@@ -257,23 +257,38 @@ def compute_scenes(scenes, jobs=1):
     global _PENDING
     _PENDING = list(scenes)
     out = []
+    pool = cf.ProcessPoolExecutor(max_workers=min(jobs, len(scenes)), mp_context=mp.get_context("fork"))
+    futures = []
+    finished = False
     try:
-        with cf.ProcessPoolExecutor(max_workers=min(jobs, len(scenes)),
-                                    mp_context=mp.get_context("fork")) as pool:
-            futures = [pool.submit(_run_in_worker, i) for i in range(len(scenes))]
-            for sc, future in zip(scenes, futures):
-                try:
-                    result = future.result()
-                except Exception:  # a worker that died (killed, out of memory): try here
-                    result = None
-                if result is None:
-                    for f in futures:
-                        f.cancel()
-                    result = _run_serial(sc)  # raises the scene's own error, as a serial build does
-                out.append(result)
+        futures = [pool.submit(_run_in_worker, i) for i in range(len(scenes))]
+        for sc, future in zip(scenes, futures):
+            try:
+                result = future.result()
+            except Exception:  # a worker that died (killed, out of memory), or a stopped pool
+                result = None
+            if result is None:
+                _stop(pool, futures)
+                result = _run_serial(sc)  # raises the scene's own error, as a serial build does
+            out.append(result)
+        finished = True
     finally:
+        if not finished:  # an error, or Ctrl-C: no worker goes on computing
+            _stop(pool, futures)
+        pool.shutdown(wait=True, cancel_futures=True)
         _PENDING = []
     return out
+
+
+def _stop(pool, futures):
+    """Cancel what has not started and end the workers (their scenes are computed here instead)."""
+    for f in futures:
+        f.cancel()
+    for proc in list((getattr(pool, "_processes", None) or {}).values()):
+        try:
+            proc.terminate()
+        except (OSError, AttributeError):
+            pass
 
 
 #: The scenes of compute_scenes, read by the forked workers (never pickled).
@@ -284,7 +299,7 @@ def _run_in_worker(index):
     """(files, stages) of _PENDING[index], or None when it fails (the parent reports the error)."""
     try:
         return _run_serial(_PENDING[index])
-    except BaseException:
+    except Exception:
         return None
 
 
