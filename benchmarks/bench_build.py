@@ -16,7 +16,8 @@ the worker processes it forks) of each, the ratios, and whether the two
 builds wrote the same bytes (they must: the work changed no product).
 Target: wall <= 3 s on a 2-core machine.  The machine is shared and noisy;
 with ``--repeat`` the fastest round of each counts.  ``--jobs`` sets
-PENDULAB_JOBS for ours (1 = the serial path).
+PENDULAB_JOBS for ours (1 = the serial path); ``--serial`` times the serial
+path as well.
 """
 
 import argparse
@@ -71,20 +72,29 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=1, help="rounds (the fastest counts)")
     ap.add_argument("--jobs", type=int, default=None, help="PENDULAB_JOBS for ours")
+    ap.add_argument("--serial", action="store_true", help="also time ours with PENDULAB_JOBS=1")
     args = ap.parse_args(argv)
     tmp = Path(tempfile.mkdtemp(prefix="bench-build-"))
     try:
         old_src = baseline_source(tmp)
         print(f"load average before: {os.getloadavg()[0]:.2f} (2 cores shared: wall times are noisy)")
-        ours, base = [], []
+        ours, serial, base = [], [], []
         for k in range(args.repeat):
             ours.append(run_build(ROOT / "src", tmp / f"ours{k}", args.jobs))
-            print(f"round {k + 1}: ours  {ours[-1][0]:6.2f} s wall, {ours[-1][1]:6.2f} s CPU")
+            print(f"round {k + 1}: ours           {ours[-1][0]:6.2f} s wall, {ours[-1][1]:6.2f} s CPU")
+            if args.serial:
+                serial.append(run_build(ROOT / "src", tmp / f"serial{k}", 1))
+                print(f"round {k + 1}: ours, 1 job    {serial[-1][0]:6.2f} s wall, {serial[-1][1]:6.2f} s CPU")
             if old_src is not None:
                 base.append(run_build(old_src, tmp / f"base{k}"))
-                print(f"round {k + 1}: base  {base[-1][0]:6.2f} s wall, {base[-1][1]:6.2f} s CPU")
+                print(f"round {k + 1}: baseline       {base[-1][0]:6.2f} s wall, {base[-1][1]:6.2f} s CPU")
         wall, cpu = min(w for w, _ in ours), min(c for _, c in ours)
         print(f"ours:     {wall:6.2f} s wall, {cpu:6.2f} s CPU  (target: wall <= 3 s)")
+        if serial:
+            swall, scpu = min(w for w, _ in serial), min(c for _, c in serial)
+            print(f"ours, PENDULAB_JOBS=1: {swall:6.2f} s wall, {scpu:6.2f} s CPU")
+            if tree(tmp / "serial0") != tree(tmp / "ours0"):
+                print("the serial build wrote OTHER bytes than the parallel one")
         if base:
             bwall, bcpu = min(w for w, _ in base), min(c for _, c in base)
             print(f"baseline: {bwall:6.2f} s wall, {bcpu:6.2f} s CPU  (pendulab at {BASELINE})")
