@@ -573,3 +573,24 @@ def test_job_count_defaults_and_choices(monkeypatch):
     monkeypatch.setenv("PENDULAB_JOBS", "1")
     assert job_count() == 1
     assert job_count(2) == 2  # an explicit argument wins over the environment
+
+
+@pytest.mark.parametrize("figure, preloaded", [("false", False), ("true", True)])
+def test_heavy_imports_shared_by_scenes_are_made_before_the_workers_fork(tmp_path, figure, preloaded):
+    """Two scenes whose stability product draws its figure: the parent imports matplotlib once
+    (the workers inherit it); without figures it imports none."""
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    table = f'[products.stability]\npoints = 2\nmax_ratio = "1/2"\nmethods = ["eq28"]\nfigure = {figure}\n'
+    for body in ("point", "rod"):
+        _write(scenes, f'system = "kapitza"\n[parameters]\nbody = "{body}"\n' + table, f"{body}.toml")
+    code = (
+        "import sys\n"
+        "from pendulab.build import build\n"
+        f"build({str(scenes)!r}, out_root={str(tmp_path / 'out')!r}, log=lambda m: None, jobs=2)\n"
+        "print('matplotlib.pyplot' in sys.modules)\n"
+    )
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert res.stdout.strip().splitlines()[-1] == str(preloaded)
+    assert (tmp_path / "out" / "rod" / "stability.json").exists()
+    assert (tmp_path / "out" / "rod" / "stability.svg").exists() == preloaded

@@ -241,11 +241,14 @@ def compute_scenes(scenes, jobs=1):
     code from the same inputs, whichever process runs it.  With ``jobs`` > 1
     and more than one scene (and ``fork`` available), the derivations that
     several scenes share (same :func:`pendulab.equations.derivation_key`) are
-    done here first, so that the worker processes, forked afterwards, inherit
-    them; each worker then takes the next scene in order.  A scene that fails
-    in a worker is computed again in this process, in order, so that the
-    error is the one a serial build reports (one line naming the scene file
-    and the product) and nothing is published.
+    done here first, and so are the imports of the heavy modules that the
+    products of several scenes declare (``preload(options)`` of a product
+    module: matplotlib, scipy.integrate), so that the worker processes,
+    forked afterwards, inherit them; each worker then takes the next scene in
+    order.  A scene that fails in a worker (or whose worker dies) is computed
+    again in this process, in order, so that the error is the one a serial
+    build reports (one line naming the scene file and the product) and
+    nothing is published.
     """
     if not scenes:
         return []
@@ -253,6 +256,7 @@ def compute_scenes(scenes, jobs=1):
     if jobs <= 1 or len(scenes) < 2 or "fork" not in mp.get_all_start_methods():
         return [_run_serial(sc) for sc in scenes]
     _share_derivations(scenes)
+    _preload(scenes)
     import concurrent.futures as cf
     global _PENDING
     _PENDING = list(scenes)
@@ -326,3 +330,31 @@ def _share_derivations(scenes):
                 derive(found[0])
             except PendulabError:
                 pass
+
+
+def _preload(scenes):
+    """Import the heavy modules that the products of two or more of ``scenes`` declare."""
+    import importlib
+    from collections import Counter
+
+    from pendulab.pipeline import product_module
+    wanted = Counter()
+    for sc in scenes:
+        names = set()
+        for name, options in sc.products.items():
+            hook = getattr(product_module(name), "preload", None)
+            if hook is not None:
+                names.update(hook(options))
+        wanted.update(names)
+    for name, count in sorted(wanted.items()):
+        if count < 2:
+            continue
+        try:
+            if name == "matplotlib":  # the Agg backend first, as the products choose it
+                from pendulab.figures import pyplot
+                pyplot("build")
+                importlib.import_module("matplotlib.backends.backend_pdf")
+            else:
+                importlib.import_module(name)
+        except (ImportError, PendulabError):
+            pass  # the product that needs it reports that, in one line
