@@ -13,7 +13,7 @@ import pytest
 from pendulab import pipeline
 from pendulab.build import build
 from pendulab.cli import COMMANDS, main
-from pendulab.errors import SceneError
+from pendulab.errors import InputError, SceneError
 from pendulab.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -434,13 +434,14 @@ def test_the_body_does_not_enter_the_driven_pivots_equations():
 def test_a_build_derives_each_equation_once(tmp_path, monkeypatch):
     """Two kapitza scenes (point, rod) with equations and the stability comparison, which
     needs eqs. 12 and 19 (phelps_hunter, averaging): the driven pivot's Euler-Lagrange
-    equations are derived once, its Mathieu form is formed twice at most (the stage once,
-    phelps_hunter once), and no closed form is derived again per row of the table."""
+    equations are derived once, its Mathieu form is formed once (the stage, phelps_hunter and
+    stability.body_map share pipeline.canonical_form), and no closed form is derived again
+    per row of the table."""
     from pendulab import canonical, equations
     from pendulab.analyses import averaging, phelps_hunter, stability
     for f in (phelps_hunter._mathieu_parameters, phelps_hunter._small_parameter_exponent,
               phelps_hunter.interval_eq12, averaging._lagrangian_torques, averaging._averaged,
-              stability._formula, stability._series_theta1):
+              stability._formula, stability._series_theta1, stability.body_map):
         f.cache_clear()
     monkeypatch.setattr(equations, "_DERIVED", {})
     monkeypatch.setattr(pipeline, "_CANONICAL", {})
@@ -467,9 +468,10 @@ def test_a_build_derives_each_equation_once(tmp_path, monkeypatch):
            "point.toml")
     _write(scenes, 'system = "kapitza"\n[parameters]\nbody = "rod"\n[products.equations]\n' + table,
            "rod.toml")
-    assert build(scenes, tmp_path / "out", log=lambda m: None) == {"point": "built", "rod": "built"}
+    # jobs=1: the counters live in this process (with jobs > 1 the scenes run in forked workers)
+    assert build(scenes, tmp_path / "out", log=lambda m: None, jobs=1) == {"point": "built", "rod": "built"}
     # eq28 rows: the same 5 values of omega0/omega for both bodies, computed once each
-    assert counts == {"derive": 1, "periodic_form": 2, "interval_eq12": 1, "series": 5}
+    assert counts == {"derive": 1, "periodic_form": 1, "interval_eq12": 1, "series": 5}
 
 
 def test_shared_series_limits_are_bit_for_bit_the_direct_ones():
@@ -481,3 +483,114 @@ def test_shared_series_limits_are_bit_for_bit_the_direct_ones():
             for r in (1.0, 4 / 3, 1.7):
                 assert stability.limits(ratio, r, f"series:{order}") == \
                     series.stability_interval_series(order, ratio, r)
+
+
+# -- scenes side by side (pendulab.build.compute_scenes) -------------------------------
+
+TWO = {"a.toml": GOOD, "b.toml": 'system = "variable-length"\n[products.equations]\n',
+       "c.toml": GOOD.replace("point", "rod")}
+
+
+def _scenes(tmp_path):
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    for name, text in TWO.items():
+        _write(scenes, text, name)
+    return scenes
+
+
+def test_scenes_in_worker_processes_give_the_serial_bytes(tmp_path):
+    scenes = _scenes(tmp_path)
+    trees = {}
+    for jobs in (1, 2, 3):
+        out = tmp_path / f"out{jobs}"
+        assert build(scenes, out, log=lambda m: None, jobs=jobs) == {"a": "built", "b": "built", "c": "built"}
+        trees[jobs] = {str(p.relative_to(out)): p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    assert trees[1] == trees[2] == trees[3]
+    assert len(trees[1]) == 3 * 3 + 1  # equations.json, .tex, manifest.json per scene; the lock file
+
+
+def test_an_error_in_a_worker_is_the_serial_one_line_error(tmp_path, monkeypatch):
+    """The failing scene is computed again in the parent: the same SceneError as a serial build
+    (file and product named), the first failing scene in order, nothing written."""
+    scenes = _scenes(tmp_path)
+    from pendulab.errors import InputError
+    from pendulab.products import equations
+    real = equations.produce
+
+    def fails(ctx, options):
+        if ctx.scene.name in ("b", "c"):
+            raise InputError(f"cannot do {ctx.scene.name}")
+        return real(ctx, options)
+    monkeypatch.setattr(equations, "produce", fails)
+    messages = []
+    for jobs in (1, 2):
+        with pytest.raises(SceneError) as info:
+            build(scenes, tmp_path / "out", log=lambda m: None, jobs=jobs)
+        messages.append(str(info.value))
+    assert messages[0] == messages[1]
+    assert messages[0] == f"{scenes / 'b.toml'}: products.equations: cannot do b"
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_worker_that_dies_is_replaced_by_the_parent(tmp_path, monkeypatch):
+    """A worker killed in the middle of a scene (os._exit: as the out-of-memory killer does)
+    does not fail the build: the parent computes that scene itself."""
+    scenes = _scenes(tmp_path)
+    from pendulab.products import equations
+    real = equations.produce
+    parent = os.getpid()
+
+    def dies_in_a_worker(ctx, options):
+        if ctx.scene.name == "b" and os.getpid() != parent:
+            os._exit(9)
+        return real(ctx, options)
+    monkeypatch.setattr(equations, "produce", dies_in_a_worker)
+    out = tmp_path / "out"
+    assert build(scenes, out, log=lambda m: None, jobs=2) == {"a": "built", "b": "built", "c": "built"}
+    assert (out / "b" / "equations.json").exists()
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "two", "1.5", "65"])
+def test_bad_jobs_is_a_one_line_error(tmp_path, monkeypatch, capsys, value):
+    from pendulab.build import job_count
+    monkeypatch.setenv("PENDULAB_JOBS", value)
+    with pytest.raises(InputError) as info:
+        job_count()
+    assert str(info.value).startswith("PENDULAB_JOBS must be a whole number of processes")
+    path = _write(tmp_path, GOOD)
+    assert main(["build", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("pendulab: error: PENDULAB_JOBS must be")
+    assert not (tmp_path / "out").exists()
+
+
+def test_job_count_defaults_and_choices(monkeypatch):
+    from pendulab.build import MAX_JOBS, job_count
+    monkeypatch.delenv("PENDULAB_JOBS", raising=False)
+    assert 1 <= job_count() <= MAX_JOBS
+    assert job_count(3) == 3
+    monkeypatch.setenv("PENDULAB_JOBS", "1")
+    assert job_count() == 1
+    assert job_count(2) == 2  # an explicit argument wins over the environment
+
+
+@pytest.mark.parametrize("figure, preloaded", [("false", False), ("true", True)])
+def test_heavy_imports_shared_by_scenes_are_made_before_the_workers_fork(tmp_path, figure, preloaded):
+    """Two scenes whose stability product draws its figure: the parent imports matplotlib once
+    (the workers inherit it); without figures it imports none."""
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    table = f'[products.stability]\npoints = 2\nmax_ratio = "1/2"\nmethods = ["eq28"]\nfigure = {figure}\n'
+    for body in ("point", "rod"):
+        _write(scenes, f'system = "kapitza"\n[parameters]\nbody = "{body}"\n' + table, f"{body}.toml")
+    code = (
+        "import sys\n"
+        "from pendulab.build import build\n"
+        f"build({str(scenes)!r}, out_root={str(tmp_path / 'out')!r}, log=lambda m: None, jobs=2)\n"
+        "print('matplotlib.pyplot' in sys.modules)\n"
+    )
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert res.stdout.strip().splitlines()[-1] == str(preloaded)
+    assert (tmp_path / "out" / "rod" / "stability.json").exists()
+    assert (tmp_path / "out" / "rod" / "stability.svg").exists() == preloaded

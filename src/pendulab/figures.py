@@ -44,6 +44,101 @@ def save(fig, dpi=150):
     out = {}
     for ext, meta, kw in ((".png", PNG_METADATA, {"dpi": dpi}), (".pdf", PDF_METADATA, {})):
         buf = io.BytesIO()
-        fig.savefig(buf, format=ext[1:], metadata=meta, **kw)
+        with _shared_font_subsets() if ext == ".pdf" else _nothing():
+            fig.savefig(buf, format=ext[1:], metadata=meta, **kw)
         out[ext] = buf.getvalue()
     return out
+
+
+# ---------------------------------------------------------------------------
+# PDF font subsets, made once per process
+# ---------------------------------------------------------------------------
+
+#: (font file, glyph indices) -> (bytes of the subset font, glyph index map)
+_SUBSETS = {}
+#: Subsets kept (a build's figures need a dozen or so).
+MAX_SUBSETS = 256
+
+
+class _Nothing:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+
+def _nothing():
+    return _Nothing()
+
+
+class _SavedFont:
+    """Stands for the subset TTFont where matplotlib's PDF backend only saves it to a file."""
+
+    def __init__(self, data):
+        self._data = data
+
+    def save(self, file, reorderTables=False):  # noqa: N803 (fontTools' name)
+        file.write(self._data)
+
+
+class _SavedSubset:
+    def __init__(self, data, glyph_index_map):
+        self.font = _SavedFont(data)
+        self.glyph_index_map = dict(glyph_index_map)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+
+class _shared_font_subsets:
+    """While a PDF is written: each (font, glyph set) is subset by fontTools once per process.
+
+    matplotlib embeds every font of a PDF as a subset made by fontTools
+    (``matplotlib.backends._backend_pdf_ps.get_glyphs_subset``), which reads
+    and prunes the whole font file again for each figure, about 0.07 s per
+    font; the figures of a build repeat the same fonts with the same glyphs
+    (the three maps of the experiments).  Inside this context manager the
+    subset is made the first time and its bytes (what
+    ``font_as_file(subset.font)`` writes) are given back afterwards: the same
+    bytes, since fontTools' subset is a function of the font and the glyphs.
+    Outside it (or with a matplotlib without these functions) nothing changes.
+    """
+
+    def __enter__(self):
+        try:
+            from matplotlib.backends import _backend_pdf_ps as pdf_ps
+        except ImportError:
+            pdf_ps = None
+        self._module = pdf_ps
+        self._real = getattr(pdf_ps, "get_glyphs_subset", None)
+        if self._real is None or not hasattr(pdf_ps, "font_as_file"):
+            self._module = None
+            return self
+        real, font_as_file = self._real, pdf_ps.font_as_file
+
+        def get_glyphs_subset(fontfile, glyphs):
+            glyphs = frozenset(glyphs)
+            key = (fontfile, glyphs)
+            try:
+                hit = _SUBSETS.get(key)
+            except TypeError:  # an unhashable font file object: no sharing
+                return real(fontfile, glyphs)
+            if hit is None:
+                with real(fontfile, glyphs) as subset:
+                    hit = (font_as_file(subset.font).getvalue(), dict(subset.glyph_index_map))
+                if len(_SUBSETS) >= MAX_SUBSETS:
+                    _SUBSETS.clear()
+                _SUBSETS[key] = hit
+            return _SavedSubset(*hit)
+
+        pdf_ps.get_glyphs_subset = get_glyphs_subset
+        return self
+
+    def __exit__(self, *exc):
+        if self._module is not None:
+            self._module.get_glyphs_subset = self._real
+        return False

@@ -64,22 +64,31 @@ _CANONICAL = {}
 
 
 def _stage_canonical(ctx):
-    """The canonical form; shared by the scenes whose equations are the same derivation.
+    """The canonical form; shared by the scenes whose equations are the same derivation."""
+    return canonical_form(ctx.get("equations"))
 
-    The equations depend only on the derivation key of the system
+
+def canonical_form(equations):
+    """The canonical form of ``equations``, formed once per derivation in this process.
+
+    :func:`pendulab.canonical.periodic_form` for the driven pivot,
+    :func:`pendulab.canonical.length_form` for the variable length.  The
+    equations depend only on the derivation key of the system
     (:func:`pendulab.equations.derivation_key`: drive and angle, or length and
     mass), and the canonical form only on the equations, so a build that has
-    a rod and a point mass with one drive forms it once.
+    a rod and a point mass with one drive forms it once, and the analyses that
+    need the source's drive with a symbolic I (``stability.body_map``,
+    ``phelps_hunter``, the sweeps) take the same one.
     """
     from pendulab import canonical
     from pendulab.equations import MAX_CACHED, derivation_key
-    eqs = ctx.get("equations")
-    key = derivation_key(eqs.system)
+    from pendulab.systems import DrivenPivot
+    key = derivation_key(equations.system)
     if key not in _CANONICAL:
-        if ctx.scene.system == "kapitza":
-            form = canonical.periodic_form(eqs)
+        if isinstance(equations.system, DrivenPivot):
+            form = canonical.periodic_form(equations)
         else:
-            form = canonical.length_form(eqs)
+            form = canonical.length_form(equations)
         if len(_CANONICAL) >= MAX_CACHED:
             _CANONICAL.pop(next(iter(_CANONICAL)))
         _CANONICAL[key] = form

@@ -187,9 +187,13 @@ def quarter_period_asymptotics(order=4):
     u = sp.Symbol("u", positive=True)
     top = order + 2
 
-    def square(nu, shift):  # u^2 j_{nu,k+shift}^2, truncated
-        p = sp.Poly(_scaled_zero(nu, shift, u, order) ** 2, u)
-        return sum(p.coeff_monomial(u ** i) * u ** i for i in range(top + 1))
+    squares = {}
+
+    def square(nu, shift):  # u^2 j_{nu,k+shift}^2, truncated (each (nu, shift) expanded once)
+        if (nu, shift) not in squares:
+            p = sp.Poly(_scaled_zero(nu, shift, u, order) ** 2, u)
+            squares[nu, shift] = sum(p.coeff_monomial(u ** i) * u ** i for i in range(top + 1))
+        return squares[nu, shift]
 
     scaled = {
         "inward": square(1, 2) - square(2, 1),

@@ -240,11 +240,11 @@ def _mathieu_parameters():
     Read from the canonical stage (the Mathieu form of the linearised equation
     derived from the Lagrangian), not typed in.
     """
-    from pendulab.canonical import periodic_form
     from pendulab.equations import derive
+    from pendulab.pipeline import canonical_form
     from pendulab.systems import DrivenPivot
 
-    form = periodic_form(derive(DrivenPivot(body="explicit")))
+    form = canonical_form(derive(DrivenPivot(body="explicit")))
     if form.kind != "mathieu":  # pragma: no cover
         raise RuntimeError(f"the driven pivot's canonical form is {form.kind}, not Mathieu's")
     return form.theta0, form.theta1

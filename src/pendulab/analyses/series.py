@@ -50,6 +50,7 @@ Example (000 eq. 27 and c_1, found by the recursion):
 '68687/18874368'
 """
 
+import functools
 import math
 import threading
 import warnings
@@ -800,8 +801,12 @@ def _first_root(f, lo, hi, steps=400):
     return None
 
 
+@functools.lru_cache(maxsize=64)
 def _alpha_polys_in_x(order):
     """For each even n <= order: alpha_n as numpy polynomials (numerator, denominator) in x = nu^2.
+
+    Kept per order for the process (the arrays are never written to): the
+    stability comparison asks for the same order at every omega0/omega.
 
     alpha_n is even in nu (the nu -> -nu symmetry), so its numerator holds even
     powers only and its denominator factors pair into (nu - j)(nu + j) = x - j^2.
@@ -826,7 +831,7 @@ def _alpha_polys_in_x(order):
                 for _ in range(e):
                     den = np.polymul(den, [1.0, -float(j * j)])
         out.append((n, numx, den))
-    return out
+    return tuple(out)
 
 
 def _branch_theta1(polys, x, target):
@@ -858,6 +863,106 @@ def _branch_theta1(polys, x, target):
     if f(a) * f(b) < 0:
         t = brentq(f, a, b, xtol=1e-16, maxiter=200)
     return t
+
+
+#: Points of x per batch of :func:`_branch_scan` (the scan usually ends within the first few hundred).
+SCAN_BATCH = 128
+
+
+def _branch_scan(polys, xs, target):
+    """Yield (x, root) for x in ``xs``: root None where :func:`_branch_theta1` (polys, x, target)
+    is None, else a :class:`_Root` whose ``value()`` is that function's value bit for bit.
+
+    The work of the scalar function is done for a batch of x at once: the
+    coefficients by the same Horner steps on arrays, the roots as the
+    eigenvalues of the same companion matrices that numpy.roots builds, in one
+    batched LAPACK call.  The polishing of a root by brentq (the costly part)
+    is left until a comparison needs it (:meth:`_Root.less`).  A point whose
+    leading coefficient is zero (numpy.roots would trim it) goes through the
+    scalar function.
+    """
+    import numpy as np
+    degree = polys[-1][0]
+    for start in range(0, len(xs), SCAN_BATCH):
+        x = np.asarray(xs[start:start + SCAN_BATCH], dtype=float)
+        coeffs = np.zeros((len(x), degree + 1))
+        coeffs[:, 0] = x - target
+        with np.errstate(all="ignore"):
+            for n, num, den in polys:
+                coeffs[:, n] = np.polyval(num, x) / np.polyval(den, x)
+        finite = np.all(np.isfinite(coeffs), axis=1)
+        rows = np.flatnonzero(finite & (coeffs[:, 0] != 0) & (coeffs[:, degree] != 0))
+        roots = {}
+        if rows.size:
+            p = coeffs[rows, ::-1]
+            companion = np.zeros((rows.size, degree, degree))
+            sub = np.arange(1, degree)
+            companion[:, sub, sub - 1] = 1.0
+            companion[:, 0, :] = -p[:, 1:] / p[:, :1]
+            roots = dict(zip(rows.tolist(), np.linalg.eigvals(companion)))
+        for i in range(len(x)):
+            xi = float(x[i])
+            if not finite[i]:
+                yield xi, None
+            elif coeffs[i, 0] == 0:
+                yield xi, _Root.exact(0.0)
+            elif i not in roots:
+                t = _branch_theta1(polys, xi, target)
+                yield xi, None if t is None else _Root.exact(t)
+            else:
+                real = [r.real for r in roots[i] if abs(r.imag) <= 1e-9 * max(1.0, abs(r)) and r.real > 0]
+                yield xi, _Root(coeffs[i], min(real)) if real else None
+
+
+#: Points of x per batch of :func:`_branch_scan` (the scan usually ends within the first few hundred).
+SCAN_BATCH = 128
+
+
+class _Root:
+    """The root t of :func:`_branch_theta1` before brentq's polishing, which is done on demand.
+
+    The polished value lies in the bracket [t (1 - 1e-6), t (1 + 1e-6)] that
+    brentq searches (t > 0), or is t itself; :meth:`less` compares two roots
+    by their brackets and polishes only when the brackets overlap.
+    """
+
+    __slots__ = ("coeffs", "t", "lo", "hi", "polished")
+
+    def __init__(self, coeffs, t):
+        self.coeffs, self.t, self.polished = coeffs, t, False
+        self.lo, self.hi = t * (1 - 1e-6), t * (1 + 1e-6)
+
+    @classmethod
+    def exact(cls, t):
+        root = cls(None, t)
+        root.lo = root.hi = t
+        root.polished = True
+        return root
+
+    def value(self):
+        """The value of :func:`_branch_theta1` at this point (the polished root)."""
+        if not self.polished:
+            import numpy as np
+            coeffs = self.coeffs
+
+            def f(s):
+                return float(np.polyval(coeffs[::-1], s))
+
+            a, b = self.lo, self.hi
+            if f(a) * f(b) < 0:
+                from scipy.optimize import brentq
+                self.t = brentq(f, a, b, xtol=1e-16, maxiter=200)
+            self.lo = self.hi = self.t
+            self.polished = True
+        return self.t
+
+    def less(self, other):
+        """value() < other.value(), polishing only where the brackets cannot tell."""
+        if self.hi < other.lo:
+            return True
+        if self.lo >= other.hi:
+            return False
+        return self.value() < other.value()
 
 
 def stability_interval_series(order, ratio, inertia_ratio):
@@ -924,19 +1029,18 @@ def interval_series_theta1(order, target):
                                    1.0 - np.geomspace(1.0, 1e-7, 3000)]))
     xs = xs[xs > target]
     upper_t1 = None
-    prev = (target, 0.0)
+    prev = (target, _Root.exact(0.0))
     before = None
-    for x in xs:
-        t = _branch_theta1(polys, float(x), target)
+    for x, t in _branch_scan(polys, xs, target):
         if t is None:
             break
-        if t < prev[1]:
+        if t.less(prev[1]):
             from scipy.optimize import minimize_scalar
             lo_x = before[0] if before is not None else target
             res = minimize_scalar(lambda s: -(_branch_theta1(polys, s, target) or 0.0),
                                   bounds=(lo_x, float(x)), method="bounded",
                                   options={"xatol": 1e-13, "maxiter": 500})
-            upper_t1 = max(-res.fun, prev[1])
+            upper_t1 = max(-res.fun, prev[1].value())
             break
         before, prev = prev, (float(x), t)
     return lower_t1, upper_t1

@@ -413,12 +413,12 @@ def body_map():
     >>> m.theta0, m.theta1
     (-4*w0_over_w**2, 2*a_over_l/inertia_ratio)
     """
-    from pendulab.canonical import periodic_form
     from pendulab.equations import derive
+    from pendulab.pipeline import canonical_form
     from pendulab.systems import DrivenPivot
 
     eqs = derive(DrivenPivot(body="explicit"))
-    return ParameterMap(eqs, periodic_form(eqs))
+    return ParameterMap(eqs, canonical_form(eqs))
 
 
 def scene_map(ctx):

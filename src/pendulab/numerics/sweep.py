@@ -117,9 +117,9 @@ def _stages(spec):
 
 
 def _derive(spec):
-    from pendulab.canonical import periodic_form
     from pendulab.equations import derive
     from pendulab.exprs import parse
+    from pendulab.pipeline import canonical_form
     from pendulab.systems import DrivenPivot
 
     kwargs = {"body": spec.body, "angle": spec.angle}
@@ -128,7 +128,7 @@ def _derive(spec):
     if spec.inertia is not None:
         kwargs["inertia_value"] = parse(spec.inertia)
     eqs = derive(DrivenPivot(**kwargs))
-    return eqs, periodic_form(eqs)
+    return eqs, canonical_form(eqs)
 
 
 _SYSTEMS = {}
@@ -161,20 +161,35 @@ def _param_columns(spec, fos):
     return names
 
 
+#: spec -> (its stages, the function of mathieu_pair): lambdified once per system and process
+_PAIRS = {}
+
+
 def mathieu_pair(spec):
     """f(a_over_l, w0_over_w) -> (theta0, theta1) as NumPy arrays, from the canonical stage.
 
     The pair is :func:`pendulab.numerics.model.mathieu_parameters` lambdified
     (000 eqs. 5-6 as derived, never typed); a drive whose canonical form is
-    not Mathieu's is refused in one line.
+    not Mathieu's is refused in one line.  Made once per ``spec`` (and its
+    stages) in a process: a build's sweeps, pruning plans and Floquet
+    verdicts ask for it a score of times.
     """
+    stages = _stages(spec)
+    made = _PAIRS.get(spec)
+    if made is None or made[0] is not stages:
+        if len(_PAIRS) >= 64:
+            _PAIRS.clear()
+        made = _PAIRS[spec] = (stages, _make_mathieu_pair(spec, *stages))
+    return made[1]
+
+
+def _make_mathieu_pair(spec, eqs, form):
     import numpy as np
     import sympy as sp
 
     from pendulab import symbols as S
     from pendulab.numerics.model import mathieu_parameters
 
-    eqs, form = _stages(spec)
     if form.kind != "mathieu":
         raise InputError(f"the drive gives a {form.kind} equation, not Mathieu's: no (theta0, theta1) "
                          "pair (the floquet criterion uses the monodromy matrix; pruning and the "
@@ -468,13 +483,27 @@ def floquet_verdict(spec, index=None):
     _eqs, form = _stages(spec.system)
     if form.kind != "mathieu":
         return _monodromy_map(spec)[i, j]
-    pair = mathieu_pair(spec.system)
-    t0, t1 = pair(np.asarray(spec.a_over_l)[j], np.asarray(spec.w0_over_w)[i])
-    with warnings.catch_warnings():
-        # on the source's grids some cells sit exactly on a curve (a/l = 0, omega0/omega = 0);
-        # their verdict is that of is_stable's count, reported as such
-        warnings.simplefilter("ignore", AccuracyWarning)
-        return is_stable(t0, t1)
+    # a build asks for the verdict of one grid a dozen times (each map, each pruned criterion)
+    key = (spec.system, spec.a_over_l, spec.w0_over_w, rest.tobytes())
+    stages = _stages(spec.system)
+    if key not in _VERDICTS or _VERDICTS[key][0] is not stages:
+        pair = mathieu_pair(spec.system)
+        t0, t1 = pair(np.asarray(spec.a_over_l)[j], np.asarray(spec.w0_over_w)[i])
+        with warnings.catch_warnings():
+            # on the source's grids some cells sit exactly on a curve (a/l = 0, omega0/omega = 0);
+            # their verdict is that of is_stable's count, reported as such
+            warnings.simplefilter("ignore", AccuracyWarning)
+            verdict = is_stable(t0, t1)
+        if len(_VERDICTS) >= 32:
+            _VERDICTS.clear()
+        _VERDICTS[key] = (stages, verdict)
+    return _VERDICTS[key][1].copy()
+
+
+#: (system, grid, cells) -> (its stages, Floquet verdict of those cells), kept per process
+_VERDICTS = {}
+#: (system, grid) -> (its stages, characteristic exponents on the grid: prune_plan), kept per process
+_EXPONENTS = {}
 
 
 _MONODROMY_MAPS = {}
@@ -784,9 +813,15 @@ def prune_plan(spec, margin=MARGIN, amplitude=None):
             near |= pad[margin + di:margin + di + n_w, margin + dj:margin + dj + n_a] != F
     a, w = np.meshgrid(np.asarray(spec.a_over_l, float), np.asarray(spec.w0_over_w, float))
     t0, t1 = mathieu_pair(spec.system)(a, w)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", AccuracyWarning)
-        lam = exponent(t0, t1)
+    key = (spec.system, spec.a_over_l, spec.w0_over_w)
+    stages = _stages(spec.system)
+    if key not in _EXPONENTS or _EXPONENTS[key][0] is not stages:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", AccuracyWarning)
+            if len(_EXPONENTS) >= 32:
+                _EXPONENTS.clear()
+            _EXPONENTS[key] = (stages, exponent(t0, t1))
+    lam = _EXPONENTS[key][1].copy()
     nu = np.abs(lam.real)
     # unstable in a resonance gap (Re lam = k >= 1, lam = k + i mu): beyond the upper edge of a
     # band the inverted position loses stability by period doubling and a bounded oscillation

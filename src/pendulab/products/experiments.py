@@ -73,6 +73,13 @@ def system_spec(ctx):
     return spec
 
 
+def preload(options):
+    """Heavy modules this product imports: :func:`pendulab.build.compute_scenes` imports those
+    that two or more scenes need once, before it forks its workers."""
+    return (("matplotlib",) if options["figures"] else ()) + \
+        (("scipy.integrate",) if options["fig5"] or options["fig2"] else ())
+
+
 def check_options(options):
     from pendulab.numerics.experiments import CONVENTIONS, INITIAL
     from pendulab.numerics.sweep import CRITERIA

@@ -72,6 +72,11 @@ OPTIONS = {
 }
 
 
+def preload(options):
+    """Heavy modules this product imports (see :func:`pendulab.build.compute_scenes`)."""
+    return ("scipy.integrate",) + (("matplotlib",) if options["figures"] else ())
+
+
 def check_options(options):
     """Every problem of the options together (nothing computed): theta_0 not 0, the table of
     values, and the oscillations integrated (pendulab.limits.work_problem)."""

@@ -59,6 +59,11 @@ def grid(points, max_ratio):
     return [float(top * k / (points - 1)) for k in range(points)]
 
 
+def preload(options):
+    """Heavy modules this product imports (see :func:`pendulab.build.compute_scenes`)."""
+    return ("matplotlib",) if options["figure"] else ()
+
+
 def check_options(options):
     """Scene validation: the grid and every method, one InputError listing the problems."""
     from pendulab.analyses.stability import parse_method

@@ -259,7 +259,22 @@ def _band_at_two_precisions(band, dps, what):
         return Limits((+lower, +upper))
 
 
+#: (theta0, dps) -> ends of the first band, kept for the process: the rod and the point mass
+#: of a build meet the same theta0 = -4 (omega0/omega)^2 (issue 10 item 6).
+_BANDS = {}
+
+
 def _first_band_mp(th0, w):
+    """|q| at the ends of the first band at theta0 = th0 (an mpf, th0 < 1), at dps w (memoised)."""
+    key = (th0, w)
+    if key not in _BANDS:
+        if len(_BANDS) >= 4096:
+            _BANDS.clear()
+        _BANDS[key] = _first_band_mp_once(th0, w)
+    return _BANDS[key]
+
+
+def _first_band_mp_once(th0, w):
     """|q| at the ends of the first band at theta0 = th0 (an mpf, th0 < 1), at dps w."""
     if th0 >= 1:
         raise InputError(f"theta0 = {mpmath.nstr(th0, 8)} >= 1: the first stable band at "

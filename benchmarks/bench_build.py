@@ -1,0 +1,109 @@
+"""Time of the main job (issue 10 item 6), one command:
+
+    python benchmarks/bench_build.py [--repeat N] [--jobs J]
+
+Runs ``python -m pendulab build derivations/ --force --out <temporary>``
+on the committed scenes twice per round, in fresh interpreters:
+
+* ours - the source tree this script sits in;
+* baseline - the same command on pendulab as it was at commit BASELINE
+  (the commit before the main-job work: one scene after another, the
+  stability-interval scan point by point), extracted with ``git archive``
+  into a temporary directory and run by the same Python.
+
+Prints the wall time and the CPU time (user + system of the build and of
+the worker processes it forks) of each, the ratios, and whether the two
+builds wrote the same bytes (they must: the work changed no product).
+Target: wall <= 3 s on a 2-core machine.  The machine is shared and noisy;
+with ``--repeat`` the fastest round of each counts.  ``--jobs`` sets
+PENDULAB_JOBS for ours (1 = the serial path); ``--serial`` times the serial
+path as well.
+"""
+
+import argparse
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+#: The commit before the main-job work (the baseline the ratio is taken against).
+BASELINE = "730850c"
+
+
+def _child_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def run_build(src, out, jobs=None):
+    """(wall s, CPU s) of one ``pendulab build derivations/ --force`` with ``src`` first on the path."""
+    env = dict(os.environ, PYTHONPATH=str(src))
+    if jobs is not None:
+        env["PENDULAB_JOBS"] = str(jobs)
+    cmd = [sys.executable, "-m", "pendulab", "build", str(ROOT / "derivations"), "--force", "--out", str(out)]
+    cpu, start = _child_cpu(), time.perf_counter()
+    subprocess.run(cmd, env=env, cwd=str(ROOT), check=True, stdout=subprocess.DEVNULL)
+    return time.perf_counter() - start, _child_cpu() - cpu
+
+
+def tree(root):
+    return {str(p.relative_to(root)): p.read_bytes() for p in sorted(Path(root).rglob("*"))
+            if p.is_file() and not p.name.startswith(".")}
+
+
+def baseline_source(into):
+    """Extract src/ of BASELINE into ``into``; its path, or None when git cannot."""
+    try:
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", BASELINE, "src"],
+                                 capture_output=True, check=True).stdout
+        subprocess.run(["tar", "-x", "-C", str(into)], input=archive, check=True)
+    except (OSError, subprocess.CalledProcessError) as exc:
+        print(f"baseline: cannot extract {BASELINE} ({exc}); ours only")
+        return None
+    return Path(into) / "src"
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=1, help="rounds (the fastest counts)")
+    ap.add_argument("--jobs", type=int, default=None, help="PENDULAB_JOBS for ours")
+    ap.add_argument("--serial", action="store_true", help="also time ours with PENDULAB_JOBS=1")
+    args = ap.parse_args(argv)
+    tmp = Path(tempfile.mkdtemp(prefix="bench-build-"))
+    try:
+        old_src = baseline_source(tmp)
+        print(f"load average before: {os.getloadavg()[0]:.2f} (2 cores shared: wall times are noisy)")
+        ours, serial, base = [], [], []
+        for k in range(args.repeat):
+            ours.append(run_build(ROOT / "src", tmp / f"ours{k}", args.jobs))
+            print(f"round {k + 1}: ours           {ours[-1][0]:6.2f} s wall, {ours[-1][1]:6.2f} s CPU")
+            if args.serial:
+                serial.append(run_build(ROOT / "src", tmp / f"serial{k}", 1))
+                print(f"round {k + 1}: ours, 1 job    {serial[-1][0]:6.2f} s wall, {serial[-1][1]:6.2f} s CPU")
+            if old_src is not None:
+                base.append(run_build(old_src, tmp / f"base{k}"))
+                print(f"round {k + 1}: baseline       {base[-1][0]:6.2f} s wall, {base[-1][1]:6.2f} s CPU")
+        wall, cpu = min(w for w, _ in ours), min(c for _, c in ours)
+        print(f"ours:     {wall:6.2f} s wall, {cpu:6.2f} s CPU  (target: wall <= 3 s)")
+        if serial:
+            swall, scpu = min(w for w, _ in serial), min(c for _, c in serial)
+            print(f"ours, PENDULAB_JOBS=1: {swall:6.2f} s wall, {scpu:6.2f} s CPU")
+            if tree(tmp / "serial0") != tree(tmp / "ours0"):
+                print("the serial build wrote OTHER bytes than the parallel one")
+        if base:
+            bwall, bcpu = min(w for w, _ in base), min(c for _, c in base)
+            print(f"baseline: {bwall:6.2f} s wall, {bcpu:6.2f} s CPU  (pendulab at {BASELINE})")
+            print(f"ratio baseline/ours: wall {bwall / wall:.2f}x, CPU {bcpu / cpu:.2f}x")
+            same = tree(tmp / "ours0") == tree(tmp / "base0")
+            print(f"same bytes as the baseline: {'yes' if same else 'NO'}")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
