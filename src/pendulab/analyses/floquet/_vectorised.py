@@ -201,7 +201,9 @@ def _band_nu(th0, q2, k, lo, hi, R, chunk=8192):
     u_{i-1}) u_{i-1}'/u_{i-1}), the bracket in (k, k+1) kept by the Sturm count
     (k + 1 eigenvalues below theta0: lam is below the root), bisection when a
     step leaves it.  Next to an edge lam - e moves like the square root of
-    theta0 - E, so rounding of det at the 1e-16 level gives ~1e-16/(lam - e)."""
+    theta0 - E, so rounding of det at the 1e-16 level gives ~1e-16/(lam - e).
+    The loop runs in the C kernel :data:`_BAND_C` when it builds (the same bits),
+    else in NumPy (:func:`_band_nu_chunk`)."""
     import numpy as np
 
     lib = _c_band()
@@ -404,8 +406,9 @@ def _band_eigen(nu, q2, k, lo, hi, R, chunk=8192):
     the bracket kept by the Sturm count (k below x: x is above the root),
     bisection when a step leaves the bracket.  The count is exact for off-
     diagonals perturbed by 2.5 ulp (Kahan), so the root is the eigenvalue of
-    the float matrix to a few ulps of max(|x|, |q|).  Worked in chunks that
-    stay in the cache."""
+    the float matrix to a few ulps of max(|x|, |q|).  The loop runs in the C
+    kernel :data:`_BAND_C` when it builds (the same bits), else in NumPy in
+    chunks that stay in the cache (:func:`_band_eigen_chunk`)."""
     import numpy as np
 
     lib = _c_band()
