@@ -84,6 +84,23 @@ def test_lambda_grid_rows_give_the_same_bits(monkeypatch):
     _same_bits(c, n)
 
 
+def test_portable_build_gives_the_same_bits(rng, tmp_path, monkeypatch):
+    # the last flag set (no -march=native: SSE2 on x86-64) against the first
+    # that built (AVX-512 or AVX2 vectors where the CPU has them)
+    nu = rng.uniform(0.0, 4.0, 2000)
+    th1 = rng.uniform(-12.0, 12.0, 2000)
+    assert V._c_band() is not None
+    ref_inv, ref_exp = theta0_of_exponent(nu, th1), exponent(nu * nu + 0.3, th1)
+    cmd = ckernel.compiler_command()
+    target = tmp_path / "band-portable.so"
+    assert ckernel._compile(V._BAND_C, cmd, ckernel.FLAG_SETS[-1], target) is None
+    lib = V._bind(ctypes.CDLL(str(target)))
+    monkeypatch.setitem(V._C_STATE, "lib", lib)
+    assert V._c_band() is lib
+    _same_bits(theta0_of_exponent(nu, th1), ref_inv)
+    _same_bits(exponent(nu * nu + 0.3, th1), ref_exp)
+
+
 def test_missing_compiler_takes_the_numpy_path_with_one_notice(rng, tmp_path, monkeypatch,
                                                                 capsys):
     nu = rng.uniform(0.0, 3.0, 300)

@@ -706,19 +706,23 @@ def _c_band():
 
     if "lib" not in _C_STATE or _C_STATE.get("cc") != tuple(ckernel.compiler_command()):
         lib = ckernel.load_source("floquet band Newton", _BAND_C)
-        if lib is not None:
-            import ctypes
-
-            D, L, PD = ctypes.c_double, ctypes.c_long, ctypes.POINTER(ctypes.c_double)
-            PL = ctypes.POINTER(ctypes.c_long)
-            lib.pendulab_band_newton.argtypes = [ctypes.c_int, L, PD, PD, PL, PD, PD, PD, D, L,
-                                                 L, PD]
-            lib.pendulab_band_newton.restype = L
-            for fn in (lib.pendulab_eigen_rows, lib.pendulab_nu_rows):
-                fn.argtypes = [D, D, D, D, L, PD, PD, PL, PD]
-                fn.restype = None
-        _C_STATE["lib"], _C_STATE["cc"] = lib, tuple(ckernel.compiler_command())
+        _C_STATE["lib"] = None if lib is None else _bind(lib)
+        _C_STATE["cc"] = tuple(ckernel.compiler_command())
     return _C_STATE["lib"]
+
+
+def _bind(lib):
+    """``lib`` (a ctypes.CDLL of :data:`_BAND_C`) with its argument types set."""
+    import ctypes
+
+    D, L, PD = ctypes.c_double, ctypes.c_long, ctypes.POINTER(ctypes.c_double)
+    PL = ctypes.POINTER(ctypes.c_long)
+    lib.pendulab_band_newton.argtypes = [ctypes.c_int, L, PD, PD, PL, PD, PD, PD, D, L, L, PD]
+    lib.pendulab_band_newton.restype = L
+    for fn in (lib.pendulab_eigen_rows, lib.pendulab_nu_rows):
+        fn.argtypes = [D, D, D, D, L, PD, PD, PL, PD]
+        fn.restype = None
+    return lib
 
 
 def _c_newton(lib, kind, p, q2, k, lo, hi, x0, R, L, maxit):
