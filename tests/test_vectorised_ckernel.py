@@ -200,3 +200,16 @@ def test_kernel_rows_are_the_derived_recurrence(kind, a, theta1, x):
                 M[i, i + 1] = M[i + 1, i] = -rows[2](n, lam, X, T)
         ev = mpmath.eigsy(M, eigvals_only=True)
         assert cnt == sum(1 for e in ev if e < X)
+
+
+def test_load_source_required_raises_one_line(tmp_path, monkeypatch):
+    from pendulab.errors import InputError
+
+    monkeypatch.setenv("PENDULAB_CC", str(tmp_path / "no-such-cc"))
+    with pytest.raises(InputError, match="C kernel 'probe' unavailable") as info:
+        ckernel.load_source("probe", "int pendulab_x(void) { return 2; }\n", required=True)
+    assert "\n" not in str(info.value)
+    monkeypatch.delenv("PENDULAB_CC")
+    ckernel.clear_loaded()
+    lib = ckernel.load_source("probe", "int pendulab_x(void) { return 2; }\n", required=True)
+    assert lib.pendulab_x() == 2
