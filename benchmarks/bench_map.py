@@ -15,7 +15,9 @@ inverse (issue 12), one command:
    (nu = 0, 0.01, ..., 2; q = -5, -4.99, ..., 5; 201 x 1001 points), per
    point, beside scipy.special.mathieu_a on the same grid with the order
    m = floor(nu) (the order must be an integer for SciPy: for non-integer
-   nu it returns nan without computing, which is timed too).
+   nu it returns nan without computing, which is timed too).  Ours with the C
+   band kernel (pendulab.numerics.ckernel) and with its NumPy fallback
+   (PENDULAB_BAND_NUMPY=1), in the same run; they must give the same bits.
 3. With the full grid file of MathieuFunctions.jl (test/MathieuCharacteristicL-1.csv,
    Mathematica's values; not shipped, a 17-row extract is in tests/data/):
 
@@ -102,25 +104,52 @@ def grid():
     return np.broadcast_arrays(nu, q)
 
 
+def _ours(NU, Q, numpy_path):
+    """Best times of the inverse and the exponent on the grid, with the C band
+    kernel or (``numpy_path``) its NumPy fallback."""
+    if numpy_path:
+        os.environ["PENDULAB_BAND_NUMPY"] = "1"
+    else:
+        os.environ.pop("PENDULAB_BAND_NUMPY", None)
+    try:
+        theta0_of_exponent(NU[:3, :5], -Q[:3, :5])
+        t_inv, th = best(lambda: theta0_of_exponent(NU, -Q), 3)
+        c_inv = CPU[-1]
+        t_exp, lam = best(lambda: exponent(th, -Q), 3)
+        c_exp = CPU[-1]
+    finally:
+        os.environ.pop("PENDULAB_BAND_NUMPY", None)
+    return t_inv, c_inv, t_exp, c_exp, th, lam
+
+
 def vectorised():
+    from pendulab.analyses.floquet._vectorised import _c_band
+
     NU, Q = grid()
     npts = NU.size
-    theta0_of_exponent(NU[:3, :5], -Q[:3, :5])
-    t_inv, th = best(lambda: theta0_of_exponent(NU, -Q), 3)
-    c_inv = CPU[-1]
-    t_exp, lam = best(lambda: exponent(th, -Q), 3)
-    c_exp = CPU[-1]
+    have_c = _c_band() is not None
+    runs = [("C kernel", False)] if have_c else []
+    runs.append(("NumPy fallback", True))
+    res = {label: _ours(NU, Q, numpy_path) for label, numpy_path in runs}
     M = np.floor(NU)
     t_sp, _ = best(lambda: sc.mathieu_a(M, Q), 3)
     c_sp = CPU[-1]
     t_nan, _ = best(lambda: sc.mathieu_a(NU, Q), 3)
     per = 1e6 / npts
     print(f"lambda grid ({NU.shape[0]} nu x {NU.shape[1]} q = {npts} points), per point:")
-    print(f"    theta0_of_exponent (arrays) {per * t_inv:.3f} us, exponent {per * t_exp:.3f} us, "
-          f"SciPy mathieu_a(floor(nu), q) {per * t_sp:.3f} us "
+    print(f"    SciPy mathieu_a(floor(nu), q) {per * t_sp:.3f} us "
           f"(non-integer orders, nan: {per * t_nan:.3f} us)")
-    print(f"    ratios ours/SciPy: inverse {t_inv / t_sp:.2f}, exponent {t_exp / t_sp:.2f} "
-          f"(CPU time: {c_inv / c_sp:.2f}, {c_exp / c_sp:.2f})")
+    for label, (t_inv, c_inv, t_exp, c_exp, _, _) in res.items():
+        print(f"    ours ({label}): theta0_of_exponent (arrays) {per * t_inv:.3f} us, "
+              f"exponent {per * t_exp:.3f} us; ratios ours/SciPy: inverse {t_inv / t_sp:.2f}, "
+              f"exponent {t_exp / t_sp:.2f} (CPU time: {c_inv / c_sp:.2f}, {c_exp / c_sp:.2f})")
+    if not have_c:
+        print("    (no C compiler: the C kernel row is missing)")
+    else:
+        _, _, _, _, th_c, lam_c = res["C kernel"]
+        _, _, _, _, th_n, lam_n = res["NumPy fallback"]
+        print(f"    C kernel and NumPy fallback bit-identical: inverse "
+              f"{bool(np.array_equal(th_c, th_n))}, exponent {bool(np.array_equal(lam_c, lam_n))}")
     t1, _ = best(lambda: theta0_of_exponent(1.37, 0.8), 5)
     print(f"    theta0_of_exponent(1.37, 0.8) (one double): {1e3 * t1:.3f} ms")
 

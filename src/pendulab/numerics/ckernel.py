@@ -35,6 +35,9 @@ use, in this or any later process, loads the cached library without compiling.
   (once per process and system) and returns None, and the callers take the
   NumPy path; ``load(required=True)`` raises :class:`~pendulab.errors.InputError`
   instead.
+* :func:`load_source` builds a hand-written C source the same way (the band
+  Newton kernel of :mod:`pendulab.analyses.floquet._vectorised`) and returns the
+  :class:`ctypes.CDLL`, or None with the same one-line notice.
 """
 
 import ctypes
@@ -318,3 +321,45 @@ def clear_loaded():
     _LOADED.clear()
     _NOTIFIED.clear()
     _IDENTITY.clear()
+
+
+def load_source(name, source, required=False):
+    """A C99 ``source`` (no system of its own: a hand kernel) compiled like the system
+    kernels (same compiler, flags, cache and key) and loaded as a :class:`ctypes.CDLL`;
+    None with the one-line notice when it cannot be built (``required``: InputError)."""
+    skey = ("source", hashlib.sha256(source.encode()).hexdigest())
+    if skey not in _LOADED:
+        _LOADED[skey] = _build_cdll(source)
+    got = _LOADED[skey]
+    if isinstance(got, ctypes.CDLL):
+        return got
+    message = f"C kernel {name!r} unavailable: {got}"
+    if required:
+        raise InputError(message)
+    _notice(skey, message)
+    return None
+
+
+def _build_cdll(source):
+    cmd = compiler_command()
+    if not cmd:
+        return "no C compiler"
+    identity = _identity(cmd)
+    if identity is None:
+        return f"C compiler {cmd[0]!r} not found or not runnable (set PENDULAB_CC or CC)"
+    errors = []
+    for flags in FLAG_SETS:
+        target = cache_dir() / f"{_key(source, identity, flags)}.so"
+        if not target.exists():
+            try:
+                err = _compile(source, cmd, flags, target)
+            except OSError as exc:
+                return f"cannot write the kernel cache {target.parent}: {exc.strerror}"
+            if err is not None:
+                errors.append(err)
+                continue
+        try:
+            return ctypes.CDLL(str(target))
+        except OSError as exc:
+            errors.append(_first_line(str(exc)))
+    return f"{cmd[0]} failed: {errors[0] if errors else 'unknown error'}"

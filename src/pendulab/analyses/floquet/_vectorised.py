@@ -201,9 +201,15 @@ def _band_nu(th0, q2, k, lo, hi, R, chunk=8192):
     u_{i-1}) u_{i-1}'/u_{i-1}), the bracket in (k, k+1) kept by the Sturm count
     (k + 1 eigenvalues below theta0: lam is below the root), bisection when a
     step leaves it.  Next to an edge lam - e moves like the square root of
-    theta0 - E, so rounding of det at the 1e-16 level gives ~1e-16/(lam - e)."""
+    theta0 - E, so rounding of det at the 1e-16 level gives ~1e-16/(lam - e).
+    The loop runs in the C kernel :data:`_BAND_C` when it builds (the same bits),
+    else in NumPy (:func:`_band_nu_chunk`)."""
     import numpy as np
 
+    lib = _c_band()
+    if lib is not None:
+        return _c_newton(lib, 1, th0, q2, k, lo, hi, _band_nu_guess(th0, k, lo, hi), R,
+                         int(R) + 4, 200)
     out = np.empty(th0.size)
     chunk = max(16, min(chunk, int(2e6 // (R + 4))))   # (rows, chunk) at most 16 MB
     for s in range(0, th0.size, chunk):
@@ -212,13 +218,11 @@ def _band_nu(th0, q2, k, lo, hi, R, chunk=8192):
     return out
 
 
-def _band_nu_chunk(th0, q2, k, lo, hi, R):
+def _band_nu_guess(th0, k, lo, hi):
+    """The first lam of :func:`_band_nu` (NumPy, for both paths)."""
     import numpy as np
 
-    L = int(R) + 4
     kf = k.astype(float)
-    n0 = 2.0 * np.floor((-R - kf - 1.0) / 2.0)       # 2n of the first row, for all lam in (k, k+1)
-    steps = n0[None, :] + 2.0 * np.arange(L)[:, None]  # exact even integers
     span = np.maximum(hi - lo, 1e-300)
     # guess: the trace cos(pi lam) taken as linear in theta0 across the band
     # and, for a band as wide as at q = 0, sqrt(theta0) with [lo, hi] mapped onto [k^2, (k+1)^2]
@@ -226,7 +230,19 @@ def _band_nu_chunk(th0, q2, k, lo, hi, R):
     wide = np.clip(span / (2.0 * kf + 1.0), 0.0, 1.0) ** 2
     lam = (1.0 - wide) * (kf + np.arccos(1.0 - 2.0 * w) / np.pi) \
         + wide * np.sqrt(kf * kf + w * (2.0 * kf + 1.0))
-    lam = np.clip(lam, kf + 1e-9, kf + 1.0 - 1e-9)
+    return np.clip(lam, kf + 1e-9, kf + 1.0 - 1e-9)
+
+
+def _band_nu_chunk(th0, q2, k, lo, hi, R):
+    """The NumPy path of :func:`_band_nu` (the C kernel, :data:`_BAND_C`, does the
+    same operations point by point)."""
+    import numpy as np
+
+    L = int(R) + 4
+    kf = k.astype(float)
+    n0 = 2.0 * np.floor((-R - kf - 1.0) / 2.0)       # 2n of the first row, for all lam in (k, k+1)
+    steps = n0[None, :] + 2.0 * np.arange(L)[:, None]  # exact even integers
+    lam = _band_nu_guess(th0, k, lo, hi)
     a, b = kf.copy(), kf + 1.0
     out = lam.copy()
     idx = np.arange(th0.size)
@@ -390,10 +406,15 @@ def _band_eigen(nu, q2, k, lo, hi, R, chunk=8192):
     the bracket kept by the Sturm count (k below x: x is above the root),
     bisection when a step leaves the bracket.  The count is exact for off-
     diagonals perturbed by 2.5 ulp (Kahan), so the root is the eigenvalue of
-    the float matrix to a few ulps of max(|x|, |q|).  Worked in chunks that
-    stay in the cache."""
+    the float matrix to a few ulps of max(|x|, |q|).  The loop runs in the C
+    kernel :data:`_BAND_C` when it builds (the same bits), else in NumPy in
+    chunks that stay in the cache (:func:`_band_eigen_chunk`)."""
     import numpy as np
 
+    lib = _c_band()
+    if lib is not None:
+        return _c_newton(lib, 0, nu, q2, k, lo, hi, _band_eigen_guess(nu, k, lo, hi), R,
+                         int(R) + 2, 120)
     out = np.empty(nu.size)
     chunk = max(16, min(chunk, int(2e6 // (R + 4))))   # (rows, chunk) at most 16 MB
     for s in range(0, nu.size, chunk):
@@ -402,13 +423,10 @@ def _band_eigen(nu, q2, k, lo, hi, R, chunk=8192):
     return out
 
 
-def _band_eigen_chunk(nu, q2, k, lo, hi, R):
+def _band_eigen_guess(nu, k, lo, hi):
+    """The first x of :func:`_band_eigen` (NumPy, for both paths)."""
     import numpy as np
 
-    L = int(R) + 2
-    # diagonal m^2, m = 2n + nu with one rounding (the row n = 0 is nu itself)
-    n0 = 2.0 * np.floor((-R - nu) / 2.0)                # 2n of the first row
-    D = ((n0[None, :] + 2.0 * np.arange(L)[:, None]) + nu[None, :]) ** 2
     span = np.maximum(hi - lo, 0.0)
     kk = k.astype(float)
     # guess: the trace cos(pi nu) taken as linear in theta0 across the band
@@ -418,7 +436,19 @@ def _band_eigen_chunk(nu, q2, k, lo, hi, R):
     w = (1.0 - wide) * (0.5 - 0.5 * np.cos(np.pi * (nu - kk))) \
         + wide * np.clip((nu * nu - kk * kk) / (2.0 * kk + 1.0), 0.0, 1.0)
     x = lo + span * w
-    x = np.clip(x, lo, hi)
+    return np.clip(x, lo, hi)
+
+
+def _band_eigen_chunk(nu, q2, k, lo, hi, R):
+    """The NumPy path of :func:`_band_eigen` (the C kernel, :data:`_BAND_C`, does
+    the same operations point by point)."""
+    import numpy as np
+
+    L = int(R) + 2
+    # diagonal m^2, m = 2n + nu with one rounding (the row n = 0 is nu itself)
+    n0 = 2.0 * np.floor((-R - nu) / 2.0)                # 2n of the first row
+    D = ((n0[None, :] + 2.0 * np.arange(L)[:, None]) + nu[None, :]) ** 2
+    x = _band_eigen_guess(nu, k, lo, hi)
     a, b = lo.copy(), hi.copy()
     out = x.copy()
     idx = np.arange(nu.size)        # the points still iterating (columns of D)
@@ -473,6 +503,246 @@ def _band_eigen_chunk(nu, q2, k, lo, hi, R):
             idx, D = idx[keep], D[:, keep]
             e2, ka, la, ha = e2[keep], ka[keep], la[keep], ha[keep]
     out[live] = x[live]
+    return out
+
+
+#: C99 text of the Newton loops of :func:`_band_eigen_chunk` and
+#: :func:`_band_nu_chunk` (compiled by :func:`pendulab.numerics.ckernel.load_source`
+#: with -ffp-contract=off and no -ffast-math: the same IEEE operations in the same
+#: order, so the same bits as the NumPy path; tests/test_vectorised_ckernel.py)
+_BAND_C = r"""/* Newton iterations of pendulab.analyses.floquet._vectorised (_band_eigen_chunk,
+   _band_nu_chunk), point by point: the same IEEE double operations in the
+   same order as the NumPy code, so the results are the same bits.  LANES
+   points are swept through the rows together (the loop over lanes
+   vectorises); a lane whose point has finished takes the next point. */
+#include <math.h>
+
+#define LANES 8
+
+static const double U4 = 4.0 * 0x1p-53;   /* 4.0 * _U */
+static const double U025 = 0.25 * 0x1p-53; /* 0.25 * _U */
+
+static double npmax1(double x) { return x >= 1.0 || x != x ? x : 1.0; }   /* np.maximum(1.0, x) */
+static double npmin(double x, double y) { return (x != x || x <= y) ? x : (y != y ? y : y); }
+
+/* rows of J(nu) - x: pivots u_i of its LDL^T, the count of negative ones and
+   sum u_i'/u_i (d/dx); one point (the diagnostic entry point of the tests) */
+void pendulab_eigen_rows(double nu, double e2, double x, double n0, long L,
+                         double *u_out, double *g_out, long *cnt_out, double *sm_out)
+{
+    double m = (n0 + 2.0 * 0.0) + nu;
+    double u = m * m - x;
+    long cnt = u < 0;
+    double g = -1.0 / u, sm = g;
+    u_out[0] = u; g_out[0] = g;
+    for (long i = 1; i < L; i++) {
+        double r = e2 / u;
+        g *= r;
+        g -= 1.0;
+        m = (n0 + 2.0 * (double)i) + nu;
+        u = m * m - x;
+        u -= r;
+        cnt += u < 0;
+        g /= u;
+        sm += g;
+        u_out[i] = u; g_out[i] = g;
+    }
+    *cnt_out = cnt; *sm_out = sm;
+}
+
+/* rows of J(lam) - theta0 and d/dlam of the pivots (see pendulab_eigen_rows) */
+void pendulab_nu_rows(double lam, double e2, double t0, double n0, long L,
+                      double *u_out, double *g_out, long *cnt_out, double *sm_out)
+{
+    double m = (n0 + 2.0 * 0.0) + lam;
+    double u = m * m - t0;
+    long cnt = u < 0;
+    double g = 2.0 * m / u, sm = g;
+    u_out[0] = u; g_out[0] = g;
+    for (long i = 1; i < L; i++) {
+        double r = e2 / u;
+        g *= r;
+        m = (n0 + 2.0 * (double)i) + lam;
+        g += m;
+        g += m;
+        u = m * m;
+        u -= t0;
+        u -= r;
+        cnt += u < 0;
+        g /= u;
+        sm += g;
+        u_out[i] = u; g_out[i] = g;
+    }
+    *cnt_out = cnt; *sm_out = sm;
+}
+
+/* kind 0: the k-th eigenvalue x of J(nu) in (lo, hi) (_band_eigen_chunk);
+   kind 1: the exponent lam in (k, k+1) with theta0 in band k (_band_nu_chunk).
+   p: nu (kind 0) or theta0 (kind 1); x0: the guess; lo, hi: the band edges
+   (kind 0) or unused (kind 1); negR = -R; L rows.  Returns the number of
+   points that used all maxit iterations. */
+long pendulab_band_newton(int kind, long n, const double *p, const double *q2, const long *k,
+                          const double *lo, const double *hi, const double *x0, double negR,
+                          long L, long maxit, double *out)
+{
+    double P[LANES], E2[LANES], N0[LANES], X[LANES], A[LANES], Bb[LANES], LA[LANES], HA[LANES];
+    double u[LANES], g[LANES], sm[LANES], m[LANES], r[LANES];
+    long K[LANES], cnt[LANES], idx[LANES], it[LANES];
+    long next = 0, active = 0, slow = 0;
+    const double Lf = (double)L;
+    for (int j = 0; j < LANES; j++) {
+        idx[j] = -1;
+        P[j] = kind ? 0.0 : 1.0; E2[j] = 1.0; N0[j] = 0.0; X[j] = 0.5; K[j] = 0; it[j] = 0;
+        A[j] = 0.0; Bb[j] = 1.0; LA[j] = 0.0; HA[j] = 1.0;
+    }
+    for (;;) {
+        /* fill the free lanes */
+        for (int j = 0; j < LANES; j++) {
+            if (idx[j] >= 0 || next >= n) continue;
+            long s = next++;
+            idx[j] = s; it[j] = 0; active++;
+            P[j] = p[s]; E2[j] = q2[s]; K[j] = k[s]; X[j] = x0[s];
+            if (kind == 0) {
+                N0[j] = 2.0 * floor((negR - P[j]) / 2.0);
+                A[j] = lo[s]; Bb[j] = hi[s]; LA[j] = lo[s]; HA[j] = hi[s];
+            } else {
+                double kf = (double)K[j];
+                N0[j] = 2.0 * floor(((negR - kf) - 1.0) / 2.0);
+                A[j] = kf; Bb[j] = kf + 1.0; LA[j] = kf; HA[j] = kf + 1.0;
+            }
+        }
+        if (active == 0) break;
+        if (kind == 0) {
+#pragma omp simd
+            for (int j = 0; j < LANES; j++) {
+                m[j] = (N0[j] + 2.0 * 0.0) + P[j];
+                u[j] = m[j] * m[j] - X[j];
+                cnt[j] = u[j] < 0;
+                g[j] = -1.0 / u[j];
+                sm[j] = g[j];
+            }
+            for (long i = 1; i < L; i++) {
+                const double s2 = 2.0 * (double)i;
+#pragma omp simd
+                for (int j = 0; j < LANES; j++) {
+                    r[j] = E2[j] / u[j];
+                    g[j] *= r[j];
+                    g[j] -= 1.0;
+                    m[j] = (N0[j] + s2) + P[j];
+                    u[j] = m[j] * m[j] - X[j];
+                    u[j] -= r[j];
+                    cnt[j] += u[j] < 0;
+                    g[j] /= u[j];
+                    sm[j] += g[j];
+                }
+            }
+        } else {
+#pragma omp simd
+            for (int j = 0; j < LANES; j++) {
+                m[j] = (N0[j] + 2.0 * 0.0) + X[j];
+                u[j] = m[j] * m[j] - P[j];
+                cnt[j] = u[j] < 0;
+                g[j] = 2.0 * m[j] / u[j];
+                sm[j] = g[j];
+            }
+            for (long i = 1; i < L; i++) {
+                const double s2 = 2.0 * (double)i;
+#pragma omp simd
+                for (int j = 0; j < LANES; j++) {
+                    r[j] = E2[j] / u[j];
+                    g[j] *= r[j];
+                    m[j] = (N0[j] + s2) + X[j];
+                    g[j] += m[j];
+                    g[j] += m[j];
+                    u[j] = m[j] * m[j];
+                    u[j] -= P[j];
+                    u[j] -= r[j];
+                    cnt[j] += u[j] < 0;
+                    g[j] /= u[j];
+                    sm[j] += g[j];
+                }
+            }
+        }
+        for (int j = 0; j < LANES; j++) {
+            if (idx[j] < 0) continue;
+            double x = X[j];
+            int below = kind == 0 ? cnt[j] <= K[j] : cnt[j] >= K[j] + 1;
+            double aa = below ? x : A[j];
+            double bb = below ? Bb[j] : x;
+            double step = 1.0 / sm[j];
+            double xn = x - step;
+            double scale = npmax1(fabs(x));
+            int small = fabs(step) <= U4 * scale;
+            int bad = !(isfinite(xn) && xn > aa && xn < bb) && !small;
+            if (bad) xn = 0.5 * (aa + bb);
+            double dist = npmin(xn - LA[j], HA[j] - xn);
+            int early = !bad && (step * step * Lf <= U025 * scale * dist);
+            int done = small || early || (bb - aa <= U4 * scale);
+            A[j] = aa; Bb[j] = bb; X[j] = xn;
+            it[j]++;
+            if (done || it[j] >= maxit) {
+                if (!done) slow++;
+                out[idx[j]] = xn;
+                idx[j] = -1;
+                active--;
+            }
+        }
+    }
+    return slow;
+}
+"""
+
+_C_STATE = {}
+
+
+def _c_band():
+    """The loaded band kernel (ctypes), or None: no compiler (one notice, the NumPy
+    path), or the environment variable PENDULAB_BAND_NUMPY set (the NumPy path)."""
+    import os
+
+    if os.environ.get("PENDULAB_BAND_NUMPY"):
+        return None
+    from pendulab.numerics import ckernel
+
+    if "lib" not in _C_STATE or _C_STATE.get("cc") != tuple(ckernel.compiler_command()):
+        lib = ckernel.load_source("floquet band Newton", _BAND_C)
+        _C_STATE["lib"] = None if lib is None else _bind(lib)
+        _C_STATE["cc"] = tuple(ckernel.compiler_command())
+    return _C_STATE["lib"]
+
+
+def _bind(lib):
+    """``lib`` (a ctypes.CDLL of :data:`_BAND_C`) with its argument types set."""
+    import ctypes
+
+    D, L, PD = ctypes.c_double, ctypes.c_long, ctypes.POINTER(ctypes.c_double)
+    PL = ctypes.POINTER(ctypes.c_long)
+    lib.pendulab_band_newton.argtypes = [ctypes.c_int, L, PD, PD, PL, PD, PD, PD, D, L, L, PD]
+    lib.pendulab_band_newton.restype = L
+    for fn in (lib.pendulab_eigen_rows, lib.pendulab_nu_rows):
+        fn.argtypes = [D, D, D, D, L, PD, PD, PL, PD]
+        fn.restype = None
+    return lib
+
+
+def _c_newton(lib, kind, p, q2, k, lo, hi, x0, R, L, maxit):
+    """:func:`_band_eigen_chunk` (kind 0, p = nu) or :func:`_band_nu_chunk` (kind 1,
+    p = theta0) for all points at once in the C kernel (guess x0 from NumPy)."""
+    import ctypes
+
+    import numpy as np
+
+    def d(a):
+        return np.ascontiguousarray(a, dtype=np.float64)
+
+    p, q2, lo, hi, x0 = d(p), d(q2), d(lo), d(hi), d(x0)
+    kk = np.ascontiguousarray(k, dtype=np.int64)
+    out = np.empty(p.size)
+    PD, PL = ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_long)
+    lib.pendulab_band_newton(kind, p.size, p.ctypes.data_as(PD), q2.ctypes.data_as(PD),
+                             kk.ctypes.data_as(PL), lo.ctypes.data_as(PD),
+                             hi.ctypes.data_as(PD), x0.ctypes.data_as(PD), float(-R), L, maxit,
+                             out.ctypes.data_as(PD))
     return out
 
 
