@@ -180,10 +180,18 @@ def _check_dps(dps, name="dps"):
     return dps
 
 
-def _size_text(v):
-    """Short text of an exact value that may be far beyond the float range."""
-    with mpmath.workdps(5):
-        return mpmath.nstr(_mp(v), 3)
+def _size_text(v, above=None):
+    """Short text of an exact value that may be far beyond the float range.
+
+    With ``above`` (a limit that ``v`` exceeds) the text has as many digits (3 to 30) as
+    it takes to read as more than the limit: 4000000.5, not 4.0e+6 next to 4e+06.
+    """
+    for digits in range(3, 31):
+        with mpmath.workdps(digits + 5):
+            text = mpmath.nstr(_mp(v), digits)
+            if above is None or mpmath.mpf(text) > above:
+                return text
+    return text + " (just above)"
 
 
 def _check_size(X0, X1, limit, what, names=("theta0", "theta1")):
@@ -191,7 +199,7 @@ def _check_size(X0, X1, limit, what, names=("theta0", "theta1")):
     values beyond the float range such as 1e400 are refused, not overflowed)."""
     size = abs(X0) + 2 * abs(X1)
     if size > limit:
-        raise InputError(f"|{names[0]}| + 2|{names[1]}| = {_size_text(size)} is too large for "
+        raise InputError(f"|{names[0]}| + 2|{names[1]}| = {_size_text(size, limit)} is too large for "
                          f"{what} (limit {limit:g}; the work grows like its square root)")
 
 
@@ -1132,7 +1140,7 @@ def first_band(theta0, dps=None):
         raise InputError(f"theta0 = {theta0} >= 1: the first stable band at theta0 >= 1 "
                          "is not the one that starts at theta1 = 0")
     if abs(X0) > SIZE_LIMIT:
-        raise InputError(f"|theta0| = {_size_text(X0)} is too large (limit {SIZE_LIMIT:g})")
+        raise InputError(f"|theta0| = {_size_text(abs(X0), SIZE_LIMIT)} is too large (limit {SIZE_LIMIT:g})")
     return _band_at_two_precisions(lambda ww: _first_band_mp(_mp(X0), ww), dps,
                                    f"first_band({theta0})")
 
