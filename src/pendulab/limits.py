@@ -507,24 +507,27 @@ SIMULATE_MAX_ROWS = 10**6
 #: With ``--reference``, most RK4 steps (DOP853's dense output is evaluated at every one).
 REFERENCE_MAX_STEPS = 10**6
 #: DOP853 (rtol 1e-13) right-hand-side evaluations per drive period, estimated from above as
-#: 400 (1.5 + sqrt(S)), S = |theta0| + 2|theta1| (fitted to docs/scenes.md, "Limits").
-REFERENCE_EVALUATIONS_MODEL = (400, 1.5)
-#: Most DOP853 evaluations of one reference (about 20 us each: under a minute); the estimate
+#: 400 (1.5 + sqrt(S)) + 8000 sqrt(|dtheta/dtau(0)|), S = |theta0| + 2|theta1| (fitted to the
+#: counts in docs/scenes.md, "Limits").
+REFERENCE_EVALUATIONS_MODEL = (400, 1.5, 8000)
+#: Most DOP853 evaluations of one reference (about 20 us each: about 40 s); the estimate
 #: refuses larger runs before any work, and the reference itself stops at this count.
-REFERENCE_MAX_EVALUATIONS = 2_500_000
+REFERENCE_MAX_EVALUATIONS = 2_000_000
 
 
-def reference_evaluations(periods, size):
-    """Estimated DOP853 evaluations over ``periods`` drive periods at size S = ``size``."""
-    coef, base = REFERENCE_EVALUATIONS_MODEL
-    return periods * coef * (base + size ** 0.5)
+def reference_evaluations(periods, size, rate=0.0):
+    """Estimated DOP853 evaluations over ``periods`` drive periods at size S = ``size``
+    from the initial rate ``rate`` = dtheta/dtau(0)."""
+    coef, base, rate_coef = REFERENCE_EVALUATIONS_MODEL
+    return periods * (coef * (base + size ** 0.5) + rate_coef * abs(rate) ** 0.5)
 
 
-def simulate_problems(periods, steps, every, size, backend):
+def simulate_problems(periods, steps, every, size, backend, rate=0.0):
     """The one-line problems of a simulation's work (an empty list when it fits).
 
     ``size`` is S = |theta0| + 2|theta1| of the point when the DOP853 reference is asked
-    for (else None); ``backend`` "c" or "numpy" is the RK4 backend expected.
+    for (else None), ``rate`` the initial dtheta/dtau; ``backend`` "c" or "numpy" is the
+    RK4 backend expected.
     """
     problems = []
     total = periods * steps
@@ -545,10 +548,11 @@ def simulate_problems(periods, steps, every, size, backend):
             problems.append(f"with --reference, --periods x --steps-per-period must be at most "
                             f"{REFERENCE_MAX_STEPS:.0e} (DOP853 at rtol 1e-13 is evaluated at "
                             f"every step), got {total}")
-        evaluations = reference_evaluations(periods, size)
+        evaluations = reference_evaluations(periods, size, rate)
         if evaluations > REFERENCE_MAX_EVALUATIONS:
             problems.append(f"the DOP853 reference would need about {evaluations:.2g} evaluations "
-                            f"(|theta0| + 2|theta1| = {size:.3g} over {periods} periods); at most "
-                            f"{REFERENCE_MAX_EVALUATIONS:.2g} (about a minute): ask for fewer "
-                            "--periods, a smaller --a-over-l or --w0-over-w")
+                            f"(|theta0| + 2|theta1| = {size:.3g}, dtheta/dtau(0) = {rate:g}, "
+                            f"{periods} periods); at most {REFERENCE_MAX_EVALUATIONS:.2g} (about "
+                            "40 s): ask for fewer --periods, a smaller --a-over-l, --w0-over-w "
+                            "or --omega-init")
     return problems

@@ -65,7 +65,8 @@ def run(args):
         if args.reference:
             theta0, theta1 = S.mathieu_pair(system)(a, w)
             size = abs(float(theta0)) + 2 * abs(float(theta1))
-        for text in limits.simulate_problems(periods, steps, every, size, backend_estimate()):
+        for text in limits.simulate_problems(periods, steps, every, size, backend_estimate(),
+                                              rate=om):
             problems.add(text)
     problems.raise_any()
     spec = S.make_spec(system, a_over_l=[a], w0_over_w=[w], theta_init=th, omega_init=om,
