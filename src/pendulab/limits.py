@@ -502,7 +502,7 @@ def sweep_problem(cells, steps, backend):
 TRAJECTORY_STEP_SECONDS = {"c": 1e-6, "numpy": 4e-4}
 #: Most RK4 steps (periods x steps per period) of one simulation (the states: 160 MB).
 SIMULATE_MAX_STEPS = 10**7
-#: Most rows ``pendulab simulate`` prints (periods x steps per period / every + 1).
+#: Most rows ``pendulab simulate`` prints after the initial state (periods x steps per period / every).
 SIMULATE_MAX_ROWS = 10**6
 #: With ``--reference``, most RK4 steps (DOP853's dense output is evaluated at every one).
 REFERENCE_MAX_STEPS = 10**6
@@ -539,9 +539,9 @@ def simulate_problems(periods, steps, every, size, backend, rate=0.0):
         problems.append(f"{total} RK4 steps would take about {seconds:.0f} s with the NumPy backend "
                         f"(no C compiler found; limit {WORK_BUDGET_SECONDS} s): ask for fewer "
                         "--periods or --steps-per-period")
-    if total // every + 1 > SIMULATE_MAX_ROWS:
+    if total // every > SIMULATE_MAX_ROWS:
         problems.append(f"{total // every + 1} rows would be printed (--periods x "
-                        f"--steps-per-period / --every + 1); at most {SIMULATE_MAX_ROWS:.0e}: "
+                        f"--steps-per-period / --every + 1); at most {SIMULATE_MAX_ROWS:.0e} + 1: "
                         "ask for a larger --every")
     if size is not None:
         if total > REFERENCE_MAX_STEPS:

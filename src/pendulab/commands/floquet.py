@@ -31,18 +31,17 @@ def add_parser(sub):
 
 
 def run(args):
-    from pendulab.analyses.floquet import characteristic_exponent
-    from pendulab.analyses.floquet_format import result_record
-    from pendulab.io import canonical_json
-
     from pendulab import limits
     from pendulab.errors import InputError
-    from pendulab.analyses.floquet import SIZE_LIMITS, _check_size, _exact
     problems = limits.Problems()
     problems.parse("floquet.theta0", args.theta0, "--theta0")
     problems.parse("floquet.theta1", args.theta1, "--theta1")
     dps = None if args.dps is None else problems.parse("floquet.dps", args.dps, "--dps")
     problems.raise_any()
+
+    from pendulab.analyses.floquet import SIZE_LIMITS, _check_size, _exact, characteristic_exponent
+    from pendulab.analyses.floquet_format import result_record
+    from pendulab.io import canonical_json
     # the method's size limit first (its own message), then the work
     _check_size(_exact(args.theta0, "theta0"), _exact(args.theta1, "theta1"),
                 SIZE_LIMITS[args.method], f"method {args.method!r}")

@@ -24,15 +24,13 @@ def add_parser(sub):
 
 
 def run(args):
+    from pendulab import limits
+    # the order first, without importing SymPy (a usage error answers at once)
+    args.order = limits.parse("series.order", args.order, "--order")
+
     from pendulab.io import canonical_json
     from pendulab.products import series as product
-
-    from pendulab import limits
-    problems = limits.Problems()
-    order = problems.parse("series.order", args.order, "--order")
-    problems.call(product.check_request, order or 1, [args.kind], where="series")
-    problems.raise_any()
-    args.order = order
+    product.check_request(args.order, [args.kind], where="series")
     if args.json:
         print(canonical_json(product.record(args.kind, args.order)), end="")
         return 0

@@ -42,8 +42,6 @@ def run(args):
     import io
     import sys
 
-    import numpy as np
-
     from pendulab import limits
     from pendulab.commands.sweep import backend_estimate, system_spec
     from pendulab.errors import InputError
@@ -72,6 +70,8 @@ def run(args):
     spec = S.make_spec(system, a_over_l=[a], w0_over_w=[w], theta_init=th, omega_init=om,
                        periods=periods, steps_per_period=steps, linear=args.linear)
     import warnings
+
+    import numpy as np
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         # an overflowing run is refused below in one line, without NumPy's or SciPy's warnings
         warnings.simplefilter("ignore", RuntimeWarning)

@@ -1,0 +1,75 @@
+"""Start-up time of ``pendulab`` commands that compute little (issue 12: at most 0.5 s).
+
+One command:  python benchmarks/bench_startup.py [--runs 5]
+
+Each command runs ``--runs`` times as a fresh subprocess (``python -m pendulab ...``,
+the same interpreter as the console script); the figure is the median wall time.
+The baselines, measured in the same run the same way, are an empty interpreter
+(``python -c pass``) and one that imports what the numeric commands need
+(``python -c "import sympy, scipy, numpy"``).  Printed per command: our median,
+the ratio to each baseline, and whether it meets the 0.5 s target (only for
+the commands marked "little": the others compute something on purpose and are
+shown for comparison).
+"""
+
+import argparse
+import statistics
+import subprocess
+import sys
+import time
+
+TARGET = 0.5
+
+#: (label, argv after "python -m pendulab", does little?)
+COMMANDS = [
+    ("pendulab --help", ["--help"], True),
+    ("pendulab floquet --help", ["floquet", "--help"], True),
+    ("pendulab sweep --help", ["sweep", "--help"], True),
+    ("usage error (sweep --grid 0)", ["sweep", "--grid", "0"], True),
+    ("usage error (unknown command)", ["nope"], True),
+    ("bessel zeros --order 1 --count 3", ["bessel", "zeros", "--order", "1", "--count", "3"], True),
+    ("floquet --theta0 -1/5 --theta1 0.2", ["floquet", "--theta0", "-1/5", "--theta1", "0.2"], True),
+    ("series --order 2 --kind a0", ["series", "--order", "2", "--kind", "a0"], True),
+    ("series --order 2 (nu)", ["series", "--order", "2"], True),
+    ("stability --ratio 0.1 --method eq12 --json",
+     ["stability", "--ratio", "0.1", "--method", "eq12", "--json"], False),
+    ("stability --ratio 0.1 --json (exact)", ["stability", "--ratio", "0.1", "--json"], False),
+]
+
+BASELINES = [
+    ("python -c pass", ["-c", "pass"]),
+    ("python -c 'import sympy, scipy, numpy'", ["-c", "import sympy, scipy, numpy"]),
+]
+
+
+def wall(args, runs):
+    """Median wall seconds of ``runs`` runs of ``python args`` (output discarded)."""
+    times = []
+    for _ in range(runs):
+        t = time.perf_counter()
+        subprocess.run([sys.executable, *args], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--runs", type=int, default=5, help="runs per command (median)")
+    args = p.parse_args()
+    base = {label: wall(argv, args.runs) for label, argv in BASELINES}
+    empty, heavy = (base[label] for label, _ in BASELINES)
+    for label, seconds in base.items():
+        print(f"baseline {label:45s} {seconds:6.3f} s")
+    print(f"{'command':52s} {'ours':>7s} {'/pass':>6s} {'/imports':>8s}  target {TARGET} s")
+    ok = True
+    for label, argv, little in COMMANDS:
+        seconds = wall(["-m", "pendulab", *argv], args.runs)
+        verdict = ("meets" if seconds <= TARGET else "MISSES") if little else "(computes)"
+        ok &= seconds <= TARGET or not little
+        print(f"{label:52s} {seconds:6.3f}s {seconds / empty:6.1f} {seconds / heavy:8.2f}  {verdict}")
+    print("all commands that do little meet the target" if ok else
+          "some commands that do little miss the target")
+
+
+if __name__ == "__main__":
+    main()
