@@ -507,7 +507,8 @@ SIMULATE_MAX_ROWS = 10**6
 #: With ``--reference``, most RK4 steps (DOP853's dense output is evaluated at every one).
 REFERENCE_MAX_STEPS = 10**6
 #: DOP853 (rtol 1e-13) right-hand-side evaluations per drive period, estimated from above as
-#: 400 (1.5 + sqrt(S)) + 8000 sqrt(|dtheta/dtau(0)|), S = |theta0| + 2|theta1| (fitted to the
+#: 400 (1.5 + sqrt(S)) + 8000 max(0, sqrt(|dtheta/dtau(0)|) - 1), S = |theta0| + 2|theta1|
+#: (fitted to the
 #: counts in docs/scenes.md, "Limits").
 REFERENCE_EVALUATIONS_MODEL = (400, 1.5, 8000)
 #: Most DOP853 evaluations of one reference (about 20 us each: about 40 s); the estimate
@@ -519,7 +520,7 @@ def reference_evaluations(periods, size, rate=0.0):
     """Estimated DOP853 evaluations over ``periods`` drive periods at size S = ``size``
     from the initial rate ``rate`` = dtheta/dtau(0)."""
     coef, base, rate_coef = REFERENCE_EVALUATIONS_MODEL
-    return periods * (coef * (base + size ** 0.5) + rate_coef * abs(rate) ** 0.5)
+    return periods * (coef * (base + size ** 0.5) + rate_coef * max(0.0, abs(rate) ** 0.5 - 1))
 
 
 def simulate_problems(periods, steps, every, size, backend, rate=0.0):
@@ -556,3 +557,25 @@ def simulate_problems(periods, steps, every, size, backend, rate=0.0):
                             "40 s): ask for fewer --periods, a smaller --a-over-l, --w0-over-w "
                             "or --omega-init")
     return problems
+
+
+#: CPU seconds of ``pendulab bessel identities`` per (order, point) pair (both engines, all
+#: rules) measured at these digits (docs/scenes.md, "Limits"); the cost model interpolates
+#: them log-log and adds half (IDENTITY_MARGIN).  (The bessel product checks at min(dps, 50)
+#: digits: BESSEL_IDENTITY_WORK bounds it.)
+IDENTITY_SECONDS_PER_PAIR = ((30, 1.4e-3), (100, 5.5e-3), (300, 0.046), (1000, 1.36))
+IDENTITY_MARGIN = 1.5
+
+
+def identities_seconds(nmax, points, dps):
+    """Estimated seconds of the identity checks for n = 0..nmax at ``points`` z (plus 9 near zeros)."""
+    import math
+    table = IDENTITY_SECONDS_PER_PAIR
+    if dps <= table[0][0]:
+        per = table[0][1]
+    else:
+        (d0, c0), (d1, c1) = next((table[k], table[k + 1]) for k in range(len(table) - 1)
+                                  if dps <= table[k + 1][0] or k == len(table) - 2)
+        x = (math.log(dps) - math.log(d0)) / (math.log(d1) - math.log(d0))
+        per = math.exp(math.log(c0) + x * (math.log(c1) - math.log(c0)))
+    return IDENTITY_MARGIN * per * (nmax + 1) * (points + 9)

@@ -4,7 +4,7 @@ import argparse
 
 
 def add_parser(sub):
-    from pendulab.limits import (BESSEL_IDENTITY_WORK, BESSEL_ZERO_WORK, QUARTER_PERIOD_WORK,
+    from pendulab.limits import (BESSEL_ZERO_WORK, QUARTER_PERIOD_WORK, WORK_BUDGET_SECONDS,
                                  argument)
     p = sub.add_parser(
         "bessel", help="certified Bessel zeros, 002's quarter periods and identity checks",
@@ -43,8 +43,9 @@ def add_parser(sub):
                                     "d/dz[z^-n C_n] = -z^-n C_n+1 (C = J, Y) and z W = 2/pi for "
                                     "n = 0..N over log-spaced z in [1e-30, 1e6] and points next to "
                                     "zeros, by arb balls and mpmath (which must agree).  "
-                                    "(N + 1) (points + 9) dps is at most "
-                                    f"{BESSEL_IDENTITY_WORK} (about a minute).",
+                                    "The work of N, the points and the digits together "
+                                    f"is bounded (about {WORK_BUDGET_SECONDS} s by the cost "
+                                    "model of pendulab.limits).",
                         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     argument(i, "--nmax", "bessel.nmax", required=True, metavar="N", text="N")
     argument(i, "--dps", "bessel.dps", default="30", text="digits")
@@ -125,10 +126,13 @@ def run_identities(args):
         problems.add(f"at most {most} --z values (as many as --points), got {len(zs)}")
     if zs:
         count = len(zs)
-    if not problems and (nmax + 1) * (count + 9) * dps > limits.BESSEL_IDENTITY_WORK:
-        problems.add(f"(--nmax + 1) x (points + 9) x --dps = {(nmax + 1) * (count + 9) * dps} is "
-                     f"more than {limits.BESSEL_IDENTITY_WORK} (about a minute): ask for fewer "
-                     "--points (or --z values), a smaller --nmax or fewer --dps")
+    if not problems:
+        seconds = limits.identities_seconds(nmax, count, dps)
+        if seconds > limits.WORK_BUDGET_SECONDS:
+            problems.add(f"n = 0..{nmax} at {count} points and {dps} digits would take about "
+                         f"{seconds:.0f} s by the cost model of pendulab.limits (limit "
+                         f"{limits.WORK_BUDGET_SECONDS} s): ask for fewer --points (or --z "
+                         "values), a smaller --nmax or fewer --dps")
     problems.raise_any()
 
     import mpmath
