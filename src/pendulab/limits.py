@@ -481,16 +481,30 @@ def work_problem(product, options, what="the points and ratios asked", drive_per
 # ``pendulab sweep`` and ``pendulab simulate``: the work of the options together
 # ---------------------------------------------------------------------------
 
-def sweep_seconds(cells, steps, backend):
-    """Estimated seconds of RK4 for ``cells`` trajectories of ``steps`` steps (RK4_SECONDS)."""
+#: Seconds per cell of the floquet criterion (no integration): Mathieu's equation (the
+#: vectorised exact verdict) and any other drive (one monodromy matrix per cell), fitted from
+#: above to the grid-400 sweeps of docs/scenes.md ("Limits").
+FLOQUET_CELL_SECONDS = {"mathieu": 1e-4, "hill": 1e-3}
+
+
+def sweep_seconds(cells, steps, backend, criterion="mean", drive=False):
+    """Estimated seconds of a sweep: RK4 for ``cells`` trajectories of ``steps`` steps
+    (RK4_SECONDS of ``backend``), or the floquet criterion's verdicts (``drive``: a drive
+    other than the source's, possibly not Mathieu's)."""
+    if criterion == "floquet":
+        return cells * FLOQUET_CELL_SECONDS["hill" if drive else "mathieu"]
     return cells * steps * RK4_SECONDS["c" if backend == "c" else "numpy"]
 
 
-def sweep_problem(cells, steps, backend):
-    """A one-line problem when a sweep's RK4 work passes :data:`WORK_BUDGET_SECONDS` (else None)."""
-    seconds = sweep_seconds(cells, steps, backend)
+def sweep_problem(cells, steps, backend, criterion="mean", drive=False):
+    """A one-line problem when a sweep's work passes :data:`WORK_BUDGET_SECONDS` (else None)."""
+    seconds = sweep_seconds(cells, steps, backend, criterion, drive)
     if seconds <= WORK_BUDGET_SECONDS:
         return None
+    if criterion == "floquet":
+        return (f"{cells} Floquet verdicts{' of this drive' if drive else ''} would take about "
+                f"{seconds:.0f} s by the cost model of pendulab.limits (limit "
+                f"{WORK_BUDGET_SECONDS} s): ask for a smaller --grid")
     return (f"{cells} trajectories x {steps} RK4 steps would take about {seconds:.0f} s by the "
             f"cost model of pendulab.limits (limit {WORK_BUDGET_SECONDS} s with the "
             f"{'C kernel' if backend == 'c' else 'NumPy backend (no C compiler found)'}): "
@@ -563,7 +577,7 @@ def simulate_problems(periods, steps, every, size, backend, rate=0.0):
 #: rules) measured at these digits (docs/scenes.md, "Limits"); the cost model interpolates
 #: them log-log and adds half (IDENTITY_MARGIN).  (The bessel product checks at min(dps, 50)
 #: digits: BESSEL_IDENTITY_WORK bounds it.)
-IDENTITY_SECONDS_PER_PAIR = ((30, 1.4e-3), (100, 5.5e-3), (300, 0.046), (1000, 1.36))
+IDENTITY_SECONDS_PER_PAIR = ((30, 2.4e-3), (100, 5.5e-3), (300, 0.046), (1000, 1.36))
 IDENTITY_MARGIN = 1.5
 
 

@@ -112,8 +112,9 @@ def run(args):
         problems.add("--prune applies to mean, mean-abs and bounded (floquet integrates nothing)")
     if args.dask is not None and args.processes is not None:
         problems.add("give --dask or --processes, not both")
-    if not problems and args.criterion != "floquet":
-        work = limits.sweep_problem(grid * grid, periods * steps, backend_estimate())
+    if not problems:
+        work = limits.sweep_problem(grid * grid, periods * steps, backend_estimate(),
+                                    args.criterion, drive=args.drive is not None)
         if work:
             problems.add(work)
     problems.raise_any()
