@@ -123,7 +123,7 @@ LIMITS = {
     # the work of all options together: sweep_seconds, simulate_problem below)
     "sweep.theta_init": (float, -MAX_MAGNITUDE, MAX_MAGNITUDE, None, "theta(0) in rad"),
     "sweep.omega_init": (float, -MAX_MAGNITUDE, MAX_MAGNITUDE, None, "dtheta/dtau at tau = 0"),
-    "sweep.processes": (int, 1, 64, None, "local worker processes (1 runs in this process)"),
+    "sweep.processes": (int, 1, 16, None, "local worker processes (1 runs in this process)"),
     # ``pendulab simulate`` (--w0-over-w is stability.ratio)
     "simulate.a_over_l": (float, 0, MAX_MAGNITUDE, None, "pivot amplitude over l, a/l"),
     "simulate.every": (int, 1, 10**7, None, "print every K-th step"),
