@@ -48,6 +48,8 @@ def _probe(argv):
     (["floquet", "--theta0", "1", "--theta1", "0", "--dps", "0"], 2),
     (["bessel", "zeros", "--order", "301", "--count", "1"], 2),
     (["series", "--order", "61"], 2),
+    (["stability", "--ratio", "2000"], 2),
+    (["stability", "--ratio", "0.1", "--method", "series:99"], 2),
 ])
 def test_no_heavy_import(argv, code):
     res = _probe(argv)

@@ -37,17 +37,16 @@ def run(args):
     from pendulab.io import canonical_json
 
     problems = L.Problems()
-    if args.inertia_ratio is not None:
-        body = None
+    body = None if args.inertia_ratio is not None else (args.body or "rod")
+    if body is None:
         inertia = problems.parse("stability.inertia_ratio", args.inertia_ratio, "--inertia-ratio")
-    else:
-        from pendulab import symbols as S
-        from pendulab.systems import BODIES
-        body = args.body or "rod"
-        inertia = float(BODIES[body] / (S.m * S.l**2))
     ratio = problems.parse("stability.ratio", args.ratio, "--ratio")
     problems.call(parse_method, args.method, prefix="--method: ")
-    problems.raise_any()
+    problems.raise_any()  # before SymPy is imported: a usage error answers at once
+    if body is not None:
+        from pendulab import symbols as S
+        from pendulab.systems import BODIES
+        inertia = float(BODIES[body] / (S.m * S.l**2))  # I/(m l^2) of the systems' own table
     lower, upper = limits(ratio, inertia, args.method)
     record = {"lower": lower, "upper": upper, "method": args.method, "ratio": ratio,
               "body": body, "inertia_ratio": inertia}
