@@ -243,3 +243,26 @@ def test_the_reference_stops_at_its_evaluation_budget():
         I.reference_trajectory(fos, y0[0], params[0], tau, max_evaluations=100)
     # the same run without the bound reaches the end (so the bound is what stopped it)
     assert I.reference_trajectory(fos, y0[0], params[0], tau).shape == (201, 2)
+
+
+def test_simulate_reference_of_huge_states_answers_cleanly():
+    # a fast rotation (|theta(0)|, |dtheta/dtau(0)| at their maxima): an answer, nothing on stderr
+    run = subprocess.run([sys.executable, "-m", "pendulab", "simulate", "--a-over-l", "0",
+                          "--w0-over-w", "0", "--theta-init", "10000", "--omega-init", "-10000",
+                          "--periods", "2", "--steps-per-period", "1", "--every", "1", "--reference",
+                          "--json"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0 and run.stderr == ""
+    rec = json.loads(run.stdout)
+    assert rec["theta"][0] == 10000.0 and len(rec["theta_reference"]) == 3
+
+
+@pytest.mark.parametrize("theta0, theta1, method, limit", [
+    ("-4000000", "1/3", "hill", 4e6), ("-5000", "0.0001", "monodromy", 5000),
+    ("-30000.4", "0", "cf", 3e4)])
+def test_a_size_just_above_the_limit_reads_as_above_it(theta0, theta1, method, limit, capsys):
+    # found by an audit: "|theta0| + 2|theta1| = 4.0e+6 is too large (limit 4e+06)"
+    assert main(["floquet", "--theta0", theta0, "--theta1", theta1, "--method", method]) == 2
+    err = capsys.readouterr().err
+    shown = err.split(" = ", 1)[1].split(" ", 1)[0]
+    assert float(shown) > limit and f"limit {limit:g}" in err
