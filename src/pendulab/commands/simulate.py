@@ -16,7 +16,7 @@ def add_parser(sub):
                     "run's statistics (signed mean of theta, mean |theta|, max |theta|).  "
                     "--reference adds SciPy's DOP853 (rtol 1e-13) at the same times and the "
                     "largest difference.  The work of the options together is bounded (RK4 steps, "
-                    "printed rows, and the reference's estimated DOP853 steps; see "
+                    "printed rows, and the reference's estimated DOP853 evaluations; see "
                     "docs/scenes.md, \"Limits\").",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     accept_negative_numbers(p)

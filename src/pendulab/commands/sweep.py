@@ -50,7 +50,7 @@ def add_parser(sub):
                     "count the pairs whose inverted position is stable by the criterion: "
                     "mean (|mean theta| < 0.1), mean-abs (mean |theta| < 0.1), bounded "
                     "(|theta| < pi/2 throughout) or floquet (exact linear verdict, no "
-                    "integration).  Initial angle and rate are theta(0) and dtheta/dtau(0).  The RK4 work "
+                    "integration).  Initial angle and rate are theta(0) and dtheta/dtau(0).  The work "
                     f"of all cells together is bounded (about {WORK_BUDGET_SECONDS} s by the "
                     "cost model of pendulab.limits).",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
