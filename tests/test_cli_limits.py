@@ -266,3 +266,13 @@ def test_a_size_just_above_the_limit_reads_as_above_it(theta0, theta1, method, l
     err = capsys.readouterr().err
     shown = err.split(" = ", 1)[1].split(" ", 1)[0]
     assert float(shown) > limit and f"limit {limit:g}" in err
+
+
+def test_stability_at_the_largest_ratio_warns_nothing():
+    # found by an audit: the series method's coefficients overflowed with NumPy's
+    # RuntimeWarnings on stderr (the answer, no limit, was right)
+    run = subprocess.run([sys.executable, "-m", "pendulab", "stability", "--ratio", "1000",
+                          "--inertia-ratio", "1000", "--method", "series:40", "--json"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0 and run.stderr == ""
+    assert json.loads(run.stdout)["lower"] is None
