@@ -89,3 +89,34 @@ def test_each_example_is_a_valid_scene(row):
     if body:
         key, value = next(iter(tomllib.loads(body).items()))
         assert scene.products[row["product"]][key] == value
+
+
+def _cli_rows():
+    """The rows of the command-line table: (command, option, entry, range)."""
+    lines = DOC.read_text(encoding="utf-8").splitlines()
+    start = next(i for i, line in enumerate(lines)
+                 if re.match(r"\|\s*command\s*\|\s*option\s*\|\s*entry\s*\|", line))
+    rows = []
+    for line in lines[start + 2:]:
+        if not line.startswith("|"):
+            break
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        rows.append((_code(cells[0]).removeprefix("pendulab "), _code(cells[1]), _code(cells[2]),
+                     cells[3]))
+    return rows
+
+
+def _cli_expected():
+    """The same rows from the parsers (tests/test_cli_limits.py) and pendulab.limits."""
+    from test_cli_limits import numeric_options
+    return [(c, o, n, limits.describe(n)) for c, o, n in numeric_options()]
+
+
+def test_the_command_line_table_lists_every_numeric_option_with_its_range():
+    assert sorted(_cli_rows()) == sorted(_cli_expected())
+
+
+def test_a_changed_command_line_row_is_caught():
+    rows = _cli_rows()
+    changed = [(c, o, n, "1 to 2001" if o == "--grid" else r) for c, o, n, r in rows]
+    assert sorted(changed) != sorted(_cli_expected())

@@ -328,16 +328,16 @@ def test_cli_floquet_and_inertia_ratio(capsys):
 
 
 @pytest.mark.parametrize("argv, fragment", [
-    (["--grid", "0"], "--grid must be at least 1"),
-    (["--grid", "-3"], "--grid must be at least 1"),
-    (["--grid", "2.5"], "--grid must be a whole number"),
-    (["--periods", "-1"], "--periods must be at least 1"),
-    (["--steps-per-period", "0"], "--steps-per-period must be at least 1"),
+    (["--grid", "0"], "--grid must be an integer from 1 to 400, got 0"),
+    (["--grid", "-3"], "--grid must be an integer from 1 to 400, got -3"),
+    (["--grid", "2.5"], "--grid must be an integer from 1 to 400, got '2.5'"),
+    (["--periods", "-1"], "--periods must be an integer from 1 to 100000"),
+    (["--steps-per-period", "0"], "--steps-per-period must be an integer from 1 to 10000"),
     (["--criterion", "median"], "--criterion must be one of"),
-    (["--theta-init", "nan"], "--theta-init must be a finite number"),
-    (["--omega-init", "inf"], "--omega-init must be a finite number"),
+    (["--theta-init", "nan"], "--theta-init must be a number from -10000 to 10000, got 'nan'"),
+    (["--omega-init", "inf"], "--omega-init must be a number from -10000 to 10000, got 'inf'"),
     (["--theta-init", "abc"], "--theta-init must be a number"),
-    (["--inertia-ratio", "0.5"], "I/(m l^2) must be >= 1"),
+    (["--inertia-ratio", "0.5"], "--inertia-ratio must be a number from 1 to 1000, got '0.5'"),
     (["--prune", "--criterion", "floquet"], "--prune applies to"),
 ])
 def test_cli_sweep_bad_input(argv, fragment, capsys):
@@ -367,10 +367,10 @@ def test_cli_simulate_json_csv_and_reference(capsys):
 
 
 @pytest.mark.parametrize("argv, fragment", [
-    (["--a-over-l", "-0.1"], "--a-over-l must be >= 0"),
-    (["--w0-over-w", "nan"], "--w0-over-w must be a finite number"),
-    (["--periods", "0"], "--periods must be at least 1"),
-    (["--every", "-1"], "--every must be at least 1"),
+    (["--a-over-l", "-0.1"], "--a-over-l must be a number from 0 to 10000, got '-0.1'"),
+    (["--w0-over-w", "nan"], "--w0-over-w must be a number from 0 to 1000, got 'nan'"),
+    (["--periods", "0"], "--periods must be an integer from 1 to 100000, got 0"),
+    (["--every", "-1"], "--every must be an integer from 1 to 10000000, got -1"),
 ])
 def test_cli_simulate_bad_input(argv, fragment, capsys):
     code = main(["simulate", "--a-over-l", "0.2", "--w0-over-w", "0.05"] + argv)

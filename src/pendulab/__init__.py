@@ -28,4 +28,19 @@ from pendulab.errors import (  # noqa: F401
     SeriesDomainError,
     AccuracyWarning,
 )
-from pendulab.exprs import load_expr, dump_expr  # noqa: F401
+
+
+def __getattr__(name):
+    """``pendulab.load_expr`` and ``pendulab.dump_expr``, imported on first use.
+
+    They live in :mod:`pendulab.exprs`, which imports SymPy; importing them
+    lazily keeps ``import pendulab`` (and ``pendulab --help``) free of SymPy.
+    """
+    if name in ("load_expr", "dump_expr"):
+        from pendulab import exprs
+        return getattr(exprs, name)
+    raise AttributeError(f"module 'pendulab' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(list(globals()) + ["load_expr", "dump_expr"])

@@ -35,6 +35,10 @@ from pendulab.errors import InputError
 #: 64 harmonics derive in about 6 s (docs/scenes.md, "Limits").
 MAX_HARMONICS = 64
 
+#: Largest |a/l|, |theta(0)|, |dtheta/dtau(0)| a sweep or a simulation takes (beyond it RK4
+#: at the source's 100 steps per period only measures its own overflow).
+MAX_MAGNITUDE = 1e4
+
 LIMITS = {
     # product "floquet" (and ``pendulab floquet --dps``)
     "floquet.dps": (int, 1, 1000, 30,
@@ -105,6 +109,24 @@ LIMITS = {
                                 "orders of the series solution in Fig. 5 (each 2 to 40)"),
     "experiments.fig5_periods": (int, 1, 10000, 40, "drive periods shown in Fig. 5"),
     "experiments.fig2_periods": (int, 1, 10000, 40, "drive periods shown in Fig. 2"),
+    # ``pendulab floquet --theta0/--theta1`` (and the floquet product's points): the widest
+    # method's size (Hill, |theta0| + 2|theta1| <= 4e6); each method's own size limit and the
+    # work budget (floquet_seconds) narrow it
+    "floquet.theta0": (float, -4e6, 4e6, None, "theta0 = -4 omega0^2/omega^2 (000 eq. 5)"),
+    "floquet.theta1": (float, -2e6, 2e6, None, "theta1 = 2 a l m / I (000 eq. 6)"),
+    # ``pendulab bessel zeros --order`` (--count is bessel.zeros, --dps bessel.dps;
+    # --z of ``bessel identities`` is one point of bessel.points' grid range)
+    "bessel.order": (float, 0, 300, None, "the order n of J_n, a real number (1, 2.5, 1/3)"),
+    "bessel.z": ("positive", 0, 1e6, None, "a point z of the identities (z > 0)"),
+    # ``pendulab sweep`` and ``pendulab simulate`` (--grid, --periods, --steps-per-period are
+    # experiments.grid, .periods, .steps_per_period; --inertia-ratio is stability.inertia_ratio;
+    # the work of all options together: sweep_seconds, simulate_problem below)
+    "sweep.theta_init": (float, -MAX_MAGNITUDE, MAX_MAGNITUDE, None, "theta(0) in rad"),
+    "sweep.omega_init": (float, -MAX_MAGNITUDE, MAX_MAGNITUDE, None, "dtheta/dtau at tau = 0"),
+    "sweep.processes": (int, 1, 16, None, "local worker processes (1 runs in this process)"),
+    # ``pendulab simulate`` (--w0-over-w is stability.ratio)
+    "simulate.a_over_l": (float, 0, MAX_MAGNITUDE, None, "pivot amplitude over l, a/l"),
+    "simulate.every": (int, 1, 10**7, None, "print every K-th step"),
 }
 
 
@@ -135,6 +157,97 @@ def option(name):
     kind, _low, _high, default, text = LIMITS[name]
     kind = {"fraction": str, "positive": float}.get(kind, kind)
     return (kind, default, f"{text} ({describe(name)})")
+
+
+def parse(name, text, label=None):
+    """The command-line text ``text`` read as option ``name`` and checked (:func:`check`).
+
+    Integers are read with ``int``; numbers as decimals or fractions ("1e-3", "-1/5"),
+    exactly, and returned as floats once in range.  A text that is not such a number is
+    refused with the range and the text as given:
+
+    >>> parse("sweep.theta_init", "-1/5", "--theta-init")
+    -0.2
+    >>> parse("experiments.grid", "2.5", "--grid")
+    Traceback (most recent call last):
+    ...
+    pendulab.errors.InputError: --grid must be an integer from 1 to 400, got '2.5'
+    """
+    kind = LIMITS[name][0]
+    if not isinstance(text, str):
+        return check(name, text, label)
+    if kind is int:
+        try:
+            value = int(text.strip())
+        except ValueError:
+            value = text
+        return check(name, value, label)
+    if kind in (float, "positive"):
+        try:
+            value = Fraction(text.strip())
+        except (ValueError, ZeroDivisionError):
+            value = text
+        try:
+            check(name, value, label)
+        except InputError:
+            check(name, text, label)  # the same message, showing the text as given
+        return float(value)
+    return check(name, text, label)
+
+
+def argument(parser, flag, name, text=None, **kwargs):
+    """``parser.add_argument(flag, ...)`` for a numeric option whose range is ``LIMITS[name]``.
+
+    The help is ``text`` (default: the entry's own) followed by the range in words;
+    the argparse action remembers ``name`` (``action.limit``), so that a test can find
+    every numeric option of the command line and its entry.  The value stays text:
+    the command reads it with :func:`parse` (through :class:`Problems`).
+    """
+    kwargs.setdefault("help", f"{text or LIMITS[name][4]}, {describe(name)}")
+    action = parser.add_argument(flag, **kwargs)
+    action.limit = name
+    return action
+
+
+class Problems:
+    """Collects every problem of one command line; :meth:`raise_any` raises them as one line.
+
+    >>> p = Problems()
+    >>> p.parse("experiments.grid", "0", "--grid"), p.parse("experiments.periods", "3", "--periods")
+    (None, 3)
+    >>> p.add("give --dask or --processes, not both")
+    >>> p.raise_any()
+    Traceback (most recent call last):
+    ...
+    pendulab.errors.InputError: --grid must be an integer from 1 to 400, got 0; give --dask or --processes, not both
+    """
+
+    def __init__(self):
+        self.messages = []
+
+    def add(self, message):
+        """Record one problem (a line without the ``pendulab: error:`` prefix)."""
+        self.messages.append(str(message))
+
+    def parse(self, name, text, label):
+        """:func:`parse` of ``text``; None (and the problem recorded) when it is refused."""
+        return self.call(parse, name, text, label)
+
+    def call(self, fn, *args, prefix="", **kwargs):
+        """``fn(*args, **kwargs)``, or None with its InputError recorded (after ``prefix``)."""
+        try:
+            return fn(*args, **kwargs)
+        except InputError as exc:
+            self.add(f"{prefix}{exc}")
+            return None
+
+    def __bool__(self):
+        return bool(self.messages)
+
+    def raise_any(self):
+        """Raise one InputError listing every problem recorded, in order ("; " between)."""
+        if self.messages:
+            raise InputError("; ".join(self.messages))
 
 
 def check(name, value, label=None):
@@ -363,3 +476,121 @@ def work_problem(product, options, what="the points and ratios asked", drive_per
     return (f"{what} would take about {seconds:.1f} s by the cost model of pendulab.limits "
             f"(limit {WORK_BUDGET_SECONDS} s): ask for {fewer}a lower dps, a smaller "
             "|theta0| + 2|theta1| or method 'hill'")
+
+
+# ---------------------------------------------------------------------------
+# ``pendulab sweep`` and ``pendulab simulate``: the work of the options together
+# ---------------------------------------------------------------------------
+
+#: Seconds per cell of the floquet criterion (no integration): Mathieu's equation (the
+#: vectorised exact verdict) and any other drive (one monodromy matrix per cell), fitted from
+#: above to the grid-400 sweeps of docs/scenes.md ("Limits").
+FLOQUET_CELL_SECONDS = {"mathieu": 1e-4, "hill": 1e-3}
+
+
+def sweep_seconds(cells, steps, backend, criterion="mean", drive=False):
+    """Estimated seconds of a sweep: RK4 for ``cells`` trajectories of ``steps`` steps
+    (RK4_SECONDS of ``backend``), or the floquet criterion's verdicts (``drive``: a drive
+    other than the source's, possibly not Mathieu's)."""
+    if criterion == "floquet":
+        return cells * FLOQUET_CELL_SECONDS["hill" if drive else "mathieu"]
+    return cells * steps * RK4_SECONDS["c" if backend == "c" else "numpy"]
+
+
+def sweep_problem(cells, steps, backend, criterion="mean", drive=False):
+    """A one-line problem when a sweep's work passes :data:`WORK_BUDGET_SECONDS` (else None)."""
+    seconds = sweep_seconds(cells, steps, backend, criterion, drive)
+    if seconds <= WORK_BUDGET_SECONDS:
+        return None
+    if criterion == "floquet":
+        return (f"{cells} Floquet verdicts{' of this drive' if drive else ''} would take about "
+                f"{seconds:.0f} s by the cost model of pendulab.limits (limit "
+                f"{WORK_BUDGET_SECONDS} s): ask for a smaller --grid")
+    return (f"{cells} trajectories x {steps} RK4 steps would take about {seconds:.0f} s by the "
+            f"cost model of pendulab.limits (limit {WORK_BUDGET_SECONDS} s with the "
+            f"{'C kernel' if backend == 'c' else 'NumPy backend (no C compiler found)'}): "
+            "ask for a smaller --grid, fewer --periods or --steps-per-period")
+
+
+#: Seconds per RK4 step of one ``pendulab simulate`` trajectory (every state kept, then the
+#: statistics pass): C kernel 1e7 steps in 8 s, NumPy 1e5 steps in 30 s (docs/scenes.md).
+TRAJECTORY_STEP_SECONDS = {"c": 1e-6, "numpy": 4e-4}
+#: Most RK4 steps (periods x steps per period) of one simulation (the states: 160 MB).
+SIMULATE_MAX_STEPS = 10**7
+#: Most rows ``pendulab simulate`` prints after the initial state (periods x steps per period / every).
+SIMULATE_MAX_ROWS = 10**6
+#: With ``--reference``, most RK4 steps (DOP853's dense output is evaluated at every one).
+REFERENCE_MAX_STEPS = 10**6
+#: DOP853 (rtol 1e-13) right-hand-side evaluations per drive period, estimated from above as
+#: 400 (1.5 + sqrt(S)) + 8000 max(0, sqrt(|dtheta/dtau(0)|) - 1), S = |theta0| + 2|theta1|
+#: (fitted to the
+#: counts in docs/scenes.md, "Limits").
+REFERENCE_EVALUATIONS_MODEL = (400, 1.5, 8000)
+#: Most DOP853 evaluations of one reference (about 20 us each: about 40 s); the estimate
+#: refuses larger runs before any work, and the reference itself stops at this count.
+REFERENCE_MAX_EVALUATIONS = 2_000_000
+
+
+def reference_evaluations(periods, size, rate=0.0):
+    """Estimated DOP853 evaluations over ``periods`` drive periods at size S = ``size``
+    from the initial rate ``rate`` = dtheta/dtau(0)."""
+    coef, base, rate_coef = REFERENCE_EVALUATIONS_MODEL
+    return periods * (coef * (base + size ** 0.5) + rate_coef * max(0.0, abs(rate) ** 0.5 - 1))
+
+
+def simulate_problems(periods, steps, every, size, backend, rate=0.0):
+    """The one-line problems of a simulation's work (an empty list when it fits).
+
+    ``size`` is S = |theta0| + 2|theta1| of the point when the DOP853 reference is asked
+    for (else None), ``rate`` the initial dtheta/dtau; ``backend`` "c" or "numpy" is the
+    RK4 backend expected.
+    """
+    problems = []
+    total = periods * steps
+    seconds = total * TRAJECTORY_STEP_SECONDS["c" if backend == "c" else "numpy"]
+    if total > SIMULATE_MAX_STEPS:
+        problems.append(f"--periods x --steps-per-period must be at most {SIMULATE_MAX_STEPS:.0e}, "
+                        f"got {total}")
+    elif seconds > WORK_BUDGET_SECONDS:
+        problems.append(f"{total} RK4 steps would take about {seconds:.0f} s with the NumPy backend "
+                        f"(no C compiler found; limit {WORK_BUDGET_SECONDS} s): ask for fewer "
+                        "--periods or --steps-per-period")
+    if total // every > SIMULATE_MAX_ROWS:
+        problems.append(f"{total // every + 1} rows would be printed (--periods x "
+                        f"--steps-per-period / --every + 1); at most {SIMULATE_MAX_ROWS:.0e} + 1: "
+                        "ask for a larger --every")
+    if size is not None:
+        if total > REFERENCE_MAX_STEPS:
+            problems.append(f"with --reference, --periods x --steps-per-period must be at most "
+                            f"{REFERENCE_MAX_STEPS:.0e} (DOP853 at rtol 1e-13 is evaluated at "
+                            f"every step), got {total}")
+        evaluations = reference_evaluations(periods, size, rate)
+        if evaluations > REFERENCE_MAX_EVALUATIONS:
+            problems.append(f"the DOP853 reference would need about {evaluations:.2g} evaluations "
+                            f"(|theta0| + 2|theta1| = {size:.3g}, dtheta/dtau(0) = {rate:g}, "
+                            f"{periods} periods); at most {REFERENCE_MAX_EVALUATIONS:.2g} (about "
+                            "40 s): ask for fewer --periods, a smaller --a-over-l, --w0-over-w "
+                            "or --omega-init")
+    return problems
+
+
+#: CPU seconds of ``pendulab bessel identities`` per (order, point) pair (both engines, all
+#: rules) measured at these digits (docs/scenes.md, "Limits"); the cost model interpolates
+#: them log-log and adds half (IDENTITY_MARGIN).  (The bessel product checks at min(dps, 50)
+#: digits: BESSEL_IDENTITY_WORK bounds it.)
+IDENTITY_SECONDS_PER_PAIR = ((30, 2.4e-3), (100, 5.5e-3), (300, 0.046), (1000, 1.36))
+IDENTITY_MARGIN = 1.5
+
+
+def identities_seconds(nmax, points, dps):
+    """Estimated seconds of the identity checks for n = 0..nmax at ``points`` z (plus 9 near zeros)."""
+    import math
+    table = IDENTITY_SECONDS_PER_PAIR
+    if dps <= table[0][0]:
+        per = table[0][1]
+    else:
+        (d0, c0), (d1, c1) = next((table[k], table[k + 1]) for k in range(len(table) - 1)
+                                  if dps <= table[k + 1][0] or k == len(table) - 2)
+        x = (math.log(dps) - math.log(d0)) / (math.log(d1) - math.log(d0))
+        per = math.exp(math.log(c0) + x * (math.log(c1) - math.log(c0)))
+    return IDENTITY_MARGIN * per * (nmax + 1) * (points + 9)

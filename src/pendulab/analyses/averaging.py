@@ -39,6 +39,7 @@ import sympy as sp
 from pendulab import symbols as S
 from pendulab.analyses.phelps_hunter import a_over_l, inertia_ratio, to_dimensionless, w0_over_w
 from pendulab.errors import InputError
+from pendulab.systems import BODIES
 
 #: The slow angle psi of 000 eq. 13.
 psi = S.psi
@@ -47,7 +48,8 @@ delta = S.delta
 #: A frozen value of the angle theta (the coordinate theta(t) with t held).
 _theta = sp.Symbol("theta_", real=True)
 
-_BODIES = {"point": S.m * S.l**2, "rod": sp.Rational(4, 3) * S.m * S.l**2}
+#: The moments of inertia of the bodies by name: the systems' own table (one road).
+_BODIES = BODIES
 
 
 def _inertia(inertia):

@@ -843,8 +843,9 @@ def _branch_theta1(polys, x, target):
     import numpy as np
     coeffs = np.zeros(polys[-1][0] + 1)
     coeffs[0] = x - target
-    for n, num, den in polys:
-        coeffs[n] = np.polyval(num, x) / np.polyval(den, x)
+    with np.errstate(all="ignore"):  # an overflow is answered below (no branch), not warned
+        for n, num, den in polys:
+            coeffs[n] = np.polyval(num, x) / np.polyval(den, x)
     if not np.all(np.isfinite(coeffs)):
         return None
     if coeffs[0] == 0:

@@ -36,6 +36,7 @@ import numbers
 from fractions import Fraction
 
 from pendulab.errors import InputError, PendulabError
+from pendulab.limits import LIMITS
 
 #: The fixed method names; "series:N" (MIN_SERIES_ORDER <= N <= MAX_SERIES_ORDER) is accepted too.
 METHODS = ("exact", "eq12", "eq19", "eq19-corrected", "eq28")
@@ -48,8 +49,9 @@ MIN_SERIES_ORDER = 2
 MAX_SERIES_ORDER = 40
 #: Largest omega0/omega and I/(m l^2) accepted: beyond them the limits of a/l
 #: exceed 1e6 and the closed forms overflow double precision.
-MAX_RATIO = 1e3
-MAX_INERTIA_RATIO = 1e3
+#: (pendulab.limits.LIMITS "stability.ratio", "stability.inertia_ratio": one table)
+MAX_RATIO = float(LIMITS["stability.ratio"][2])
+MAX_INERTIA_RATIO = float(LIMITS["stability.inertia_ratio"][2])
 
 
 def _number(value, name):

@@ -3,15 +3,9 @@
 import argparse
 
 
-def _int(text):
-    """An integer argument; anything else (1.5, "x") is reported by the command's check."""
-    try:
-        return int(text)
-    except ValueError:
-        return text
-
-
 def add_parser(sub):
+    from pendulab.limits import (BESSEL_ZERO_WORK, QUARTER_PERIOD_WORK, WORK_BUDGET_SECONDS,
+                                 argument)
     p = sub.add_parser(
         "bessel", help="certified Bessel zeros, 002's quarter periods and identity checks",
         description="High-precision, certified Bessel computations for the variable-length "
@@ -23,20 +17,23 @@ def add_parser(sub):
     z = what.add_parser("zeros", help="zeros j_n,1 .. j_n,K of J_n",
                         description="The first K positive zeros of J_n for a real order n >= 0 "
                                     "(up to 300), each certified by an interval Newton step and its "
-                                    "index by Sturm windows.",
+                                    "index by Sturm windows.  K x dps is at most "
+                                    f"{BESSEL_ZERO_WORK} (about a minute).",
                         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    z.add_argument("--order", required=True, help="n, a real number >= 0 (1, 2.5, 1/3)")
-    z.add_argument("--count", type=_int, required=True, help="K, 1 to 100000")
-    z.add_argument("--dps", type=_int, default=30, help="significant digits, 1 to 10000")
+    argument(z, "--order", "bessel.order", required=True, metavar="N",
+             text="n, a real number (1, 2.5, 1/3)")
+    argument(z, "--count", "bessel.zeros", required=True, metavar="K", text="K")
+    argument(z, "--dps", "bessel.dps", default="30", text="significant digits")
     z.add_argument("--json", action="store_true", help="print JSON ({\"zeros\": [...]})")
     z.set_defaults(func=run_zeros)
     q = what.add_parser("quarter-periods", help="002's quarter periods (differences of squares of zeros)",
                         description="inward[k] = j_1,k+2^2 - j_2,k+1^2 and outward[k] = j_2,k+2^2 - "
                                     "j_1,k+2^2, k = 0..K-1 (unit v0/(4g)), with the margins of the "
-                                    "source's claim; --shortening for L = L0 - v0 t.",
+                                    "source's claim; --shortening for L = L0 - v0 t.  "
+                                    f"K x dps is at most {QUARTER_PERIOD_WORK}.",
                         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    q.add_argument("--count", type=_int, required=True, help="K, 1 to 10000")
-    q.add_argument("--dps", type=_int, default=30, help="significant digits, 1 to 1000")
+    argument(q, "--count", "quarter_periods.count", required=True, metavar="K", text="K")
+    argument(q, "--dps", "quarter_periods.dps", default="30", text="significant digits")
     q.add_argument("--shortening", action="store_true",
                    help="a shortening string: z decreases from j_2,m to 0 (K quarter periods in all)")
     q.add_argument("--json", action="store_true", help="print JSON")
@@ -45,13 +42,16 @@ def add_parser(sub):
                         description="Worst relative error of J_n Y_n+1 - J_n+1 Y_n = -2/(pi z), "
                                     "d/dz[z^-n C_n] = -z^-n C_n+1 (C = J, Y) and z W = 2/pi for "
                                     "n = 0..N over log-spaced z in [1e-30, 1e6] and points next to "
-                                    "zeros, by arb balls and mpmath (which must agree).",
+                                    "zeros, by arb balls and mpmath (which must agree).  "
+                                    "The work of N, the points and the digits together "
+                                    f"is bounded (about {WORK_BUDGET_SECONDS} s by the cost "
+                                    "model of pendulab.limits).",
                         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    i.add_argument("--nmax", type=_int, required=True, help="N, 0 to 100")
-    i.add_argument("--dps", type=_int, default=30, help="digits, 1 to 10000")
-    i.add_argument("--points", type=_int, default=60, help="log-spaced points, 2 to 10000")
-    i.add_argument("--z", type=float, action="append", default=None,
-                   help="check at this z instead of the grid (repeatable; z > 0)")
+    argument(i, "--nmax", "bessel.nmax", required=True, metavar="N", text="N")
+    argument(i, "--dps", "bessel.dps", default="30", text="digits")
+    argument(i, "--points", "bessel.points", default="60", text="log-spaced points")
+    argument(i, "--z", "bessel.z", action="append", default=None,
+             text="check at this z instead of the grid (repeatable)")
     i.add_argument("--engine", choices=("both", "arb", "mpmath"), default="both",
                    help="which engines to run")
     i.add_argument("--cross-only", action="store_true",
@@ -62,9 +62,19 @@ def add_parser(sub):
 
 
 def run_zeros(args):
+    from pendulab import limits
+    problems = limits.Problems()
+    problems.parse("bessel.order", args.order, "--order")
+    count = problems.parse("bessel.zeros", args.count, "--count")
+    dps = problems.parse("bessel.dps", args.dps, "--dps")
+    if count is not None and dps is not None and count * dps > limits.BESSEL_ZERO_WORK:
+        problems.add(f"--count x --dps = {count * dps} is more than {limits.BESSEL_ZERO_WORK} "
+                     "digits in all (about a minute): ask for fewer or shorter numbers")
+    problems.raise_any()
+
     from pendulab.analyses.bessel_zeros import bessel_zeros
     from pendulab.io import canonical_json
-    res = bessel_zeros(args.order, args.count, args.dps)
+    res = bessel_zeros(args.order, count, dps)
     if args.json:
         print(canonical_json({"order": str(res.nu), "dps": res.dps, "zeros": res.strings,
                               "certified": True, "phase_checked": res.phase_checked}), end="")
@@ -76,10 +86,19 @@ def run_zeros(args):
 
 
 def run_quarter(args):
+    from pendulab import limits
+    problems = limits.Problems()
+    count = problems.parse("quarter_periods.count", args.count, "--count")
+    dps = problems.parse("quarter_periods.dps", args.dps, "--dps")
+    if count is not None and dps is not None and count * dps > limits.QUARTER_PERIOD_WORK:
+        problems.add(f"--count x --dps = {count * dps} is more than {limits.QUARTER_PERIOD_WORK} "
+                     "(about a minute): ask for fewer or shorter numbers")
+    problems.raise_any()
+
     from pendulab.analyses.bessel_periods import GROWING, SHORTENING, quarter_periods
     from pendulab.io import canonical_json
     from pendulab.products.bessel import quarter_record
-    q = quarter_periods(args.count, args.dps, SHORTENING if args.shortening else GROWING)
+    q = quarter_periods(count, dps, SHORTENING if args.shortening else GROWING)
     rec = quarter_record(q)
     if args.json:
         print(canonical_json(rec), end="")
@@ -96,14 +115,34 @@ def run_quarter(args):
 
 
 def run_identities(args):
+    from pendulab import limits
+    problems = limits.Problems()
+    nmax = problems.parse("bessel.nmax", args.nmax, "--nmax")
+    dps = problems.parse("bessel.dps", args.dps, "--dps")
+    count = problems.parse("bessel.points", args.points, "--points")
+    zs = [problems.parse("bessel.z", z, "--z") for z in args.z or ()]
+    most = limits.LIMITS["bessel.points"][2]
+    if len(zs) > most:
+        problems.add(f"at most {most} --z values (as many as --points), got {len(zs)}")
+    if zs:
+        count = len(zs)
+    if not problems:
+        seconds = limits.identities_seconds(nmax, count, dps)
+        if seconds > limits.WORK_BUDGET_SECONDS:
+            problems.add(f"n = 0..{nmax} at {count} points and {dps} digits would take about "
+                         f"{seconds:.0f} s by the cost model of pendulab.limits (limit "
+                         f"{limits.WORK_BUDGET_SECONDS} s): ask for fewer --points (or --z "
+                         "values), a smaller --nmax or fewer --dps")
+    problems.raise_any()
+
     import mpmath
 
     from pendulab.analyses.bessel_identities import ENGINES, check_identities, default_grid
     from pendulab.io import canonical_json
-    points = args.z if args.z else default_grid(args.points)
+    points = zs if zs else default_grid(count)
     engines = ENGINES if args.engine == "both" else (args.engine,)
     from pendulab.analyses.bessel_identities import RULES
-    rep = check_identities(args.nmax, args.dps, points, engines, ("cross",) if args.cross_only else RULES)
+    rep = check_identities(nmax, dps, points, engines, ("cross",) if args.cross_only else RULES)
     e = lambda x: mpmath.nstr(x, 3)  # noqa: E731
     rec = {
         "nmax": rep.nmax, "dps": rep.dps, "points": len(rep.points), "engines": list(rep.engines),

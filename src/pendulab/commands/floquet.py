@@ -7,7 +7,7 @@ SIZES = "4e+06 (hill), 30000 (cf), 5000 (monodromy), 30000 (arb)"
 
 
 def add_parser(sub):
-    from pendulab.limits import WORK_BUDGET_SECONDS, describe
+    from pendulab.limits import WORK_BUDGET_SECONDS, argument, describe
     sizes = SIZES
     p = sub.add_parser(
         "floquet", help="characteristic exponent, multipliers and stability of Mathieu's equation",
@@ -17,12 +17,12 @@ def add_parser(sub):
                     "\"-1/5\"), read at the working precision.  Size limit: "
                     f"|theta0| + 2|theta1| <= {sizes}; the work of one point is also bounded "
                     f"(about {WORK_BUDGET_SECONDS} s by the cost model of pendulab.limits).")
-    p.add_argument("--theta0", required=True, metavar="THETA0",
-                   help="theta0 = -4 omega0^2/omega^2 (000 eq. 5), e.g. -0.002 or -1/5")
-    p.add_argument("--theta1", required=True, metavar="THETA1",
-                   help="theta1 = 2 a l m / I (000 eq. 6), e.g. 0.2 or 1/5")
-    p.add_argument("--dps", type=int, default=None,
-                   help=f"decimal digits, {describe('floquet.dps')} (default: double precision)")
+    argument(p, "--theta0", "floquet.theta0", required=True, metavar="THETA0",
+             text="theta0 = -4 omega0^2/omega^2 (000 eq. 5), e.g. -0.002 or -1/5")
+    argument(p, "--theta1", "floquet.theta1", required=True, metavar="THETA1",
+             text="theta1 = 2 a l m / I (000 eq. 6), e.g. 0.2 or 1/5")
+    argument(p, "--dps", "floquet.dps", default=None,
+             help=f"decimal digits, {describe('floquet.dps')} (default: double precision)")
     p.add_argument("--method", choices=("arb", "hill", "cf", "monodromy"), default=None,
                    help="arb: every digit proved in ball arithmetic (the default with --dps); "
                         "hill (the default without), cf, monodromy: Hill's determinant, "
@@ -33,28 +33,30 @@ def add_parser(sub):
 
 
 def run(args):
-    from pendulab.analyses.floquet import characteristic_exponent
-    from pendulab.analyses.floquet_format import result_record
-    from pendulab.io import canonical_json
-
     from pendulab import limits
     from pendulab.errors import InputError
-    from pendulab.analyses.floquet import SIZE_LIMITS, _check_size, _exact
-    if args.dps is not None:
-        limits.check("floquet.dps", args.dps, label="--dps")
+    problems = limits.Problems()
+    problems.parse("floquet.theta0", args.theta0, "--theta0")
+    problems.parse("floquet.theta1", args.theta1, "--theta1")
+    dps = None if args.dps is None else problems.parse("floquet.dps", args.dps, "--dps")
+    problems.raise_any()
+
+    from pendulab.analyses.floquet import SIZE_LIMITS, _check_size, _exact, characteristic_exponent
+    from pendulab.analyses.floquet_format import result_record
+    from pendulab.io import canonical_json
     if args.method is None:
         from pendulab.analyses.floquet._exponent import default_method
         args.method = default_method(_exact(args.theta0, "theta0"), _exact(args.theta1, "theta1"),
-                                     args.dps)
-    # the numbers and the method's size limit first (their own messages), then the work
+                                     dps)
+    # the method's size limit first (its own message), then the work
     _check_size(_exact(args.theta0, "theta0"), _exact(args.theta1, "theta1"),
                 SIZE_LIMITS[args.method], f"method {args.method!r}")
     work = limits.work_problem("floquet", {"points": [[args.theta0, args.theta1]], "ratios": [],
-                                           "dps": args.dps, "method": args.method},
+                                           "dps": dps, "method": args.method},
                                what="this point")
     if work:
         raise InputError(work)
-    res = characteristic_exponent(args.theta0, args.theta1, dps=args.dps, method=args.method)
+    res = characteristic_exponent(args.theta0, args.theta1, dps=dps, method=args.method)
     rec = result_record(res, args.theta0, args.theta1)
     if args.json:
         print(canonical_json(rec), end="")

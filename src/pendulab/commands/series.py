@@ -9,11 +9,11 @@ def add_parser(sub):
                     "c_n, s_n of cos/sin((nu + 2k) tau) (000 eqs. 20-22).  Kinds 'a0', 'a1', 'b1', "
                     "'b2', ...: the characteristic values a_m(q), b_m(q) as power series in q "
                     "(DLMF 28.6, q = -theta1) with their radius of convergence.")
-    from pendulab.limits import describe
-    p.add_argument("--order", type=int, required=True,
-                   help=f"highest power of theta1 (or of q for the integer kinds), "
-                        f"{describe('series.order')} (order 40 takes about 2 s; the Python API, "
-                        "pendulab.analyses.series, goes to 400)")
+    from pendulab.limits import argument, describe
+    argument(p, "--order", "series.order", required=True,
+             help=f"highest power of theta1 (or of q for the integer kinds), "
+                  f"{describe('series.order')} (order 40 takes about 2 s; the Python API, "
+                  "pendulab.analyses.series, goes to 400)")
     p.add_argument("--kind", default="nu", help="nu, or a<m> / b<m> such as a0, b1")
     fmt = p.add_mutually_exclusive_group()
     fmt.add_argument("--json", action="store_true", help="print JSON (sympy-parsable strings)")
@@ -24,9 +24,12 @@ def add_parser(sub):
 
 
 def run(args):
+    from pendulab import limits
+    # the order first, without importing SymPy (a usage error answers at once)
+    args.order = limits.parse("series.order", args.order, "--order")
+
     from pendulab.io import canonical_json
     from pendulab.products import series as product
-
     product.check_request(args.order, [args.kind], where="series")
     if args.json:
         print(canonical_json(product.record(args.kind, args.order)), end="")

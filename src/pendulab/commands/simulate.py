@@ -7,6 +7,7 @@ import argparse
 
 def add_parser(sub):
     from pendulab.commands.sweep import accept_negative_numbers, body_options
+    from pendulab.limits import argument
     p = sub.add_parser(
         "simulate", help="one trajectory of the driven pivot in tau (RK4)",
         description="Integrate the full equation of motion in the source's time tau = omega t/2 "
@@ -14,17 +15,20 @@ def add_parser(sub):
                     "a/l and omega0/omega; print tau, theta, dtheta/dtau every K steps and the "
                     "run's statistics (signed mean of theta, mean |theta|, max |theta|).  "
                     "--reference adds SciPy's DOP853 (rtol 1e-13) at the same times and the "
-                    "largest difference.",
+                    "largest difference.  The work of the options together is bounded (RK4 steps, "
+                    "printed rows, and the reference's estimated DOP853 evaluations; see "
+                    "docs/scenes.md, \"Limits\").",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     accept_negative_numbers(p)
     body_options(p)
-    p.add_argument("--a-over-l", required=True, metavar="A", help="pivot amplitude over l, a/l")
-    p.add_argument("--w0-over-w", required=True, metavar="W", help="omega0/omega")
-    p.add_argument("--theta-init", default="0.06", metavar="X", help="theta(0) in rad")
-    p.add_argument("--omega-init", default="0.01", metavar="Y", help="dtheta/dtau at tau = 0")
-    p.add_argument("--periods", default="10", metavar="P", help="drive periods (pi in tau each)")
-    p.add_argument("--steps-per-period", default="100", metavar="S", help="RK4 steps per drive period")
-    p.add_argument("--every", default="10", metavar="K", help="print every K-th step")
+    argument(p, "--a-over-l", "simulate.a_over_l", required=True, metavar="A")
+    argument(p, "--w0-over-w", "stability.ratio", required=True, metavar="W", text="omega0/omega")
+    argument(p, "--theta-init", "sweep.theta_init", default="0.06", metavar="X")
+    argument(p, "--omega-init", "sweep.omega_init", default="0.01", metavar="Y")
+    argument(p, "--periods", "experiments.periods", default="10", metavar="P",
+             text="drive periods (pi in tau each)")
+    argument(p, "--steps-per-period", "experiments.steps_per_period", default="100", metavar="S")
+    argument(p, "--every", "simulate.every", default="10", metavar="K")
     p.add_argument("--linear", action="store_true", help="the linearised equation (000 eq. 7)")
     p.add_argument("--reference", action="store_true", help="compare with DOP853 at rtol 1e-13")
     out = p.add_mutually_exclusive_group()
@@ -38,47 +42,47 @@ def run(args):
     import io
     import sys
 
-    import numpy as np
-
-    from pendulab.commands.sweep import number, system_spec, whole
+    from pendulab import limits
+    from pendulab.commands.sweep import backend_estimate, system_spec
     from pendulab.errors import InputError
     from pendulab.io import canonical_json
     from pendulab.numerics import sweep as S
 
-    problems = []
-
-    def collect(fn, *a):
-        try:
-            return fn(*a)
-        except InputError as exc:
-            problems.append(str(exc))
-
+    problems = limits.Problems()
     system = system_spec(args, problems)
-    a = collect(number, args.a_over_l, "--a-over-l")
-    w = collect(number, args.w0_over_w, "--w0-over-w")
-    th = collect(number, args.theta_init, "--theta-init")
-    om = collect(number, args.omega_init, "--omega-init")
-    periods = collect(whole, args.periods, "--periods", 1)
-    steps = collect(whole, args.steps_per_period, "--steps-per-period", 1)
-    every = collect(whole, args.every, "--every", 1)
-    for name, v in (("--a-over-l", a), ("--w0-over-w", w)):
-        if v is not None and v < 0:
-            problems.append(f"{name} must be >= 0, got {v!r}")
-    if periods is not None and steps is not None and periods * steps > 10**7:
-        problems.append(f"--periods x --steps-per-period must be at most 1e7, got {periods * steps}")
-    elif (args.reference and periods is not None and steps is not None
-          and periods * steps > 10**6):
-        # DOP853 at rtol 1e-13 takes about 10 s per 1e5 periods of the drive
-        problems.append("with --reference, --periods x --steps-per-period must be at most 1e6 "
-                        f"(DOP853 at rtol 1e-13 is slow over long runs), got {periods * steps}")
-    if problems:
-        raise InputError("; ".join(problems))
+    a = problems.parse("simulate.a_over_l", args.a_over_l, "--a-over-l")
+    w = problems.parse("stability.ratio", args.w0_over_w, "--w0-over-w")
+    th = problems.parse("sweep.theta_init", args.theta_init, "--theta-init")
+    om = problems.parse("sweep.omega_init", args.omega_init, "--omega-init")
+    periods = problems.parse("experiments.periods", args.periods, "--periods")
+    steps = problems.parse("experiments.steps_per_period", args.steps_per_period,
+                           "--steps-per-period")
+    every = problems.parse("simulate.every", args.every, "--every")
+    if not problems:
+        size = None
+        if args.reference:
+            theta0, theta1 = S.mathieu_pair(system)(a, w)
+            size = abs(float(theta0)) + 2 * abs(float(theta1))
+        for text in limits.simulate_problems(periods, steps, every, size, backend_estimate(),
+                                              rate=om):
+            problems.add(text)
+    problems.raise_any()
     spec = S.make_spec(system, a_over_l=[a], w0_over_w=[w], theta_init=th, omega_init=om,
                        periods=periods, steps_per_period=steps, linear=args.linear)
-    run = S.trajectory(spec, reference=args.reference)
+    import warnings
+
+    import numpy as np
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        # an overflowing run is refused below in one line, without NumPy's or SciPy's warnings
+        warnings.simplefilter("ignore", RuntimeWarning)
+        run = S.trajectory(spec, reference=args.reference,
+                           max_evaluations=limits.REFERENCE_MAX_EVALUATIONS)
     keep = slice(None, None, every)
     tau, states = run["tau"][keep], run["states"][keep]
     ref = run["reference"][keep] if args.reference else None
+    if not np.all(np.isfinite(states)) or (ref is not None and not np.all(np.isfinite(ref))):
+        raise InputError("the trajectory overflowed (theta is no longer finite); "
+                         "use fewer periods or more steps per period")
     record = {"body": system.describe(), "a_over_l": a, "w0_over_w": w, "theta_init": th,
               "omega_init": om, "periods": periods, "steps_per_period": steps, "linear": args.linear,
               "every": every, "backend": run["backend"],
@@ -88,9 +92,6 @@ def run(args):
     if args.reference:
         record["theta_reference"] = ref[:, 0].tolist()
         record["max_error_theta"] = run["max_error_theta"]
-    if not all(np.isfinite(states).ravel()):
-        raise InputError("the trajectory overflowed (theta is no longer finite); "
-                         "use fewer periods or more steps per period")
     buf = io.StringIO()
     if args.json:
         buf.write(canonical_json(record))

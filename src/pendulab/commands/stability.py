@@ -8,15 +8,14 @@ def add_parser(sub):
                     "body on a vertically driven pivot is stable, for omega0/omega = W0_OVER_W, "
                     "by the exact Floquet curves or by the source's approximations "
                     "(000_8cba66c4fdf94ac6.txt eqs. 12, 19, 28).")
-    from pendulab.limits import describe
+    from pendulab.limits import argument, describe
     body = p.add_mutually_exclusive_group()
     body.add_argument("--body", choices=("rod", "point"),
                       help="rod: I/(m l^2) = 4/3; point: 1 (default: rod)")
-    body.add_argument("--inertia-ratio", metavar="I_OVER_ML2",
-                      help=f"I/(m l^2), a number from {describe('stability.inertia_ratio')} "
-                           "(I = m l^2 + I0, I0 >= 0; instead of --body)")
-    p.add_argument("--ratio", metavar="W0_OVER_W", required=True,
-                   help=f"omega0/omega, a number from {describe('stability.ratio')}")
+    argument(body, "--inertia-ratio", "stability.inertia_ratio", metavar="I_OVER_ML2",
+             text="I/(m l^2) (I = m l^2 + I0, I0 >= 0; instead of --body)")
+    argument(p, "--ratio", "stability.ratio", metavar="W0_OVER_W", required=True,
+             text="omega0/omega")
     p.add_argument("--method", default="exact", metavar="METHOD",
                    help="exact, eq12, eq19, eq19-corrected, eq28, series:N "
                         f"(N {describe('stability.series_order')}) or integer-series:N "
@@ -32,32 +31,22 @@ def _format(value):
 
 def run(args):
     import sys
-    from fractions import Fraction
 
-    from pendulab.analyses.stability import check_inertia_ratio, check_ratio, limits, parse_method
-    from pendulab.errors import InputError
+    from pendulab import limits as L
+    from pendulab.analyses.stability import limits, parse_method
     from pendulab.io import canonical_json
 
-    problems = []
-    if args.inertia_ratio is not None:
-        body = None
-        try:
-            inertia = check_inertia_ratio(args.inertia_ratio)
-        except InputError as exc:
-            problems.append(f"--inertia-ratio: {exc}")
-    else:
-        body = args.body or "rod"
-        inertia = {"rod": float(Fraction(4, 3)), "point": 1.0}[body]
-    try:
-        ratio = check_ratio(args.ratio)
-    except InputError as exc:
-        problems.append(f"--ratio: {exc}")
-    try:
-        parse_method(args.method)
-    except InputError as exc:
-        problems.append(f"--method: {exc}")
-    if problems:
-        raise InputError("; ".join(problems))
+    problems = L.Problems()
+    body = None if args.inertia_ratio is not None else (args.body or "rod")
+    if body is None:
+        inertia = problems.parse("stability.inertia_ratio", args.inertia_ratio, "--inertia-ratio")
+    ratio = problems.parse("stability.ratio", args.ratio, "--ratio")
+    problems.call(parse_method, args.method, prefix="--method: ")
+    problems.raise_any()  # before SymPy is imported: a usage error answers at once
+    if body is not None:
+        from pendulab import symbols as S
+        from pendulab.systems import BODIES
+        inertia = float(BODIES[body] / (S.m * S.l**2))  # I/(m l^2) of the systems' own table
     lower, upper = limits(ratio, inertia, args.method)
     record = {"lower": lower, "upper": upper, "method": args.method, "ratio": ratio,
               "body": body, "inertia_ratio": inertia}

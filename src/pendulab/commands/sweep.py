@@ -11,11 +11,12 @@ NEGATIVE_NUMBER = re.compile(r"^-(\d+(\.\d*)?|\.\d+)([eE][-+]?\d+)?(/\d+)?$")
 
 def body_options(p):
     """--body / --inertia-ratio, shared with ``pendulab simulate``."""
+    from pendulab.limits import argument
     body = p.add_mutually_exclusive_group()
     body.add_argument("--body", choices=("rod", "point"),
                       help="rod: I/(m l^2) = 4/3; point mass: 1 (default: rod)")
-    body.add_argument("--inertia-ratio", metavar="R",
-                      help="I/(m l^2) of a rigid body, a number >= 1 (instead of --body)")
+    argument(body, "--inertia-ratio", "stability.inertia_ratio", metavar="R",
+             text="I/(m l^2) of a rigid body (instead of --body)")
 
 
 def accept_negative_numbers(p):
@@ -23,47 +24,24 @@ def accept_negative_numbers(p):
     p._negative_number_matcher = NEGATIVE_NUMBER
 
 
-def number(text, name):
-    """A finite float from the command-line text ``text`` (decimals or fractions)."""
-    from fractions import Fraction
-
-    from pendulab.errors import InputError
-    try:
-        value = float(Fraction(text.strip())) if "/" in text else float(text)
-    except (ValueError, ZeroDivisionError):
-        raise InputError(f"{name} must be a number, got {text!r}") from None
-    if value != value or value in (float("inf"), float("-inf")):
-        raise InputError(f"{name} must be a finite number, got {text!r}")
-    return value
-
-
-def whole(text, name, minimum):
-    from pendulab.errors import InputError
-    try:
-        value = int(text)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a whole number, got {text!r}") from None
-    if value < minimum:
-        raise InputError(f"{name} must be at least {minimum}, got {value}")
-    return value
-
-
 def system_spec(args, problems):
-    """The SystemSpec of --body / --inertia-ratio (problems are appended, not raised)."""
-    from pendulab.analyses.stability import check_inertia_ratio
-    from pendulab.errors import InputError
+    """The SystemSpec of --body / --inertia-ratio (a refused ratio is recorded in ``problems``,
+    a :class:`pendulab.limits.Problems`, and gives None)."""
     from pendulab.numerics.sweep import SystemSpec
     if args.inertia_ratio is not None:
-        try:
-            ratio = check_inertia_ratio(number(args.inertia_ratio, "--inertia-ratio"))
-        except InputError as exc:
-            problems.append(f"--inertia-ratio: {exc}" if not str(exc).startswith("--") else str(exc))
-            return None
-        return SystemSpec("explicit", inertia_ratio=float(ratio))
+        ratio = problems.parse("stability.inertia_ratio", args.inertia_ratio, "--inertia-ratio")
+        return None if ratio is None else SystemSpec("explicit", inertia_ratio=ratio)
     return SystemSpec(args.body or "rod")
 
 
+def backend_estimate():
+    """"c" when a C compiler is found (the "auto" backend then builds the C kernel), else "numpy"."""
+    from pendulab.numerics.ckernel import compiler_command
+    return "c" if compiler_command() else "numpy"
+
+
 def add_parser(sub):
+    from pendulab.limits import WORK_BUDGET_SECONDS, argument
     from pendulab.numerics.sweep import CRITERIA
     p = sub.add_parser(
         "sweep", help="stability map of the inverted pendulum over (a/l, omega0/omega)",
@@ -72,7 +50,9 @@ def add_parser(sub):
                     "count the pairs whose inverted position is stable by the criterion: "
                     "mean (|mean theta| < 0.1), mean-abs (mean |theta| < 0.1), bounded "
                     "(|theta| < pi/2 throughout) or floquet (exact linear verdict, no "
-                    "integration).  Initial angle and rate are theta(0) and dtheta/dtau(0).",
+                    "integration).  Initial angle and rate are theta(0) and dtheta/dtau(0).  The work "
+                    f"of all cells together is bounded (about {WORK_BUDGET_SECONDS} s by the "
+                    "cost model of pendulab.limits).",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     accept_negative_numbers(p)
     body_options(p)
@@ -80,11 +60,13 @@ def add_parser(sub):
                    help="pivot displacement y0(t), periodic in t (e.g. 'a*cos(omega*t) + "
                         "a*cos(2*omega*t)'; default: the source's a*cos(omega*t)); a non-Mathieu "
                         "drive takes the floquet verdict from the monodromy matrix")
-    p.add_argument("--theta-init", default="0.06", metavar="X", help="theta(0) in rad")
-    p.add_argument("--omega-init", default="0.01", metavar="Y", help="dtheta/dtau at tau = 0")
-    p.add_argument("--grid", default="10", metavar="N", help="N values of a/l and of omega0/omega")
-    p.add_argument("--periods", default="300", metavar="P", help="drive periods integrated")
-    p.add_argument("--steps-per-period", default="100", metavar="S", help="RK4 steps per drive period")
+    argument(p, "--theta-init", "sweep.theta_init", default="0.06", metavar="X")
+    argument(p, "--omega-init", "sweep.omega_init", default="0.01", metavar="Y")
+    argument(p, "--grid", "experiments.grid", default="10", metavar="N",
+             text="N values of a/l and of omega0/omega")
+    argument(p, "--periods", "experiments.periods", default="300", metavar="P",
+             text="drive periods integrated")
+    argument(p, "--steps-per-period", "experiments.steps_per_period", default="100", metavar="S")
     p.add_argument("--criterion", default="mean", metavar="C",
                    help=f"stability criterion: {', '.join(CRITERIA)}")
     p.add_argument("--prune", action="store_true",
@@ -92,8 +74,8 @@ def add_parser(sub):
                         "(docs/experiments.md); the rest take the Floquet verdict")
     p.add_argument("--linear", action="store_true", help="integrate the linearised equation (000 eq. 7)")
     p.add_argument("--dask", metavar="ADDRESS", help="run the chunks on this dask.distributed scheduler")
-    p.add_argument("--processes", metavar="K",
-                   help="local worker processes (default: automatic; 1 runs in this process)")
+    argument(p, "--processes", "sweep.processes", metavar="K",
+             text="local worker processes (default: automatic; 1 runs in this process)")
     p.add_argument("--json", action="store_true", help="print a JSON record (keys count, stable, ...)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
@@ -103,42 +85,39 @@ def add_parser(sub):
 def run(args):
     import sys
 
-    from pendulab.errors import InputError
+    from pendulab import limits
     from pendulab.io import canonical_json
     from pendulab.numerics import sweep as S
 
-    problems = []
-
-    def collect(fn, *a):
-        try:
-            return fn(*a)
-        except InputError as exc:
-            problems.append(str(exc))
-
+    problems = limits.Problems()
     system = system_spec(args, problems)
     if getattr(args, "drive", None) is not None and system is not None:
         from dataclasses import replace
 
         from pendulab.exprs import parse
-        try:
-            parse(args.drive)
+        if problems.call(parse, args.drive, prefix="--drive: ") is not None:
             system = replace(system, drive=args.drive)
-        except InputError as exc:
-            problems.append(f"--drive: {exc}")
-    th = collect(number, args.theta_init, "--theta-init")
-    om = collect(number, args.omega_init, "--omega-init")
-    grid = collect(whole, args.grid, "--grid", 1)
-    periods = collect(whole, args.periods, "--periods", 1)
-    steps = collect(whole, args.steps_per_period, "--steps-per-period", 1)
-    workers = collect(whole, args.processes, "--processes", 1) if args.processes is not None else None
+    th = problems.parse("sweep.theta_init", args.theta_init, "--theta-init")
+    om = problems.parse("sweep.omega_init", args.omega_init, "--omega-init")
+    grid = problems.parse("experiments.grid", args.grid, "--grid")
+    periods = problems.parse("experiments.periods", args.periods, "--periods")
+    steps = problems.parse("experiments.steps_per_period", args.steps_per_period,
+                           "--steps-per-period")
+    workers = None
+    if args.processes is not None:
+        workers = problems.parse("sweep.processes", args.processes, "--processes")
     if args.criterion not in S.CRITERIA:
-        problems.append(f"--criterion must be one of {', '.join(S.CRITERIA)}, got {args.criterion!r}")
+        problems.add(f"--criterion must be one of {', '.join(S.CRITERIA)}, got {args.criterion!r}")
     if args.prune and args.criterion == "floquet":
-        problems.append("--prune applies to mean, mean-abs and bounded (floquet integrates nothing)")
+        problems.add("--prune applies to mean, mean-abs and bounded (floquet integrates nothing)")
     if args.dask is not None and args.processes is not None:
-        problems.append("give --dask or --processes, not both")
-    if problems:
-        raise InputError("; ".join(problems))
+        problems.add("give --dask or --processes, not both")
+    if not problems:
+        work = limits.sweep_problem(grid * grid, periods * steps, backend_estimate(),
+                                    args.criterion, drive=args.drive is not None)
+        if work:
+            problems.add(work)
+    problems.raise_any()
     spec = S.make_spec(system, grid, theta_init=th, omega_init=om, periods=periods,
                        steps_per_period=steps, criterion=args.criterion, linear=args.linear)
     executor = "auto" if workers is None else ("serial" if workers == 1 else "processes")

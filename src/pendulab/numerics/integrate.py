@@ -316,11 +316,18 @@ def rk4_trajectory(fos, y0, params, t0, dt, steps, *, linear=False, backend="aut
     return times, states
 
 
-def reference_trajectory(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, atol=1e-15):
+class _TooManyEvaluations(Exception):
+    pass
+
+
+def reference_trajectory(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, atol=1e-15,
+                         max_evaluations=None):
     """SciPy's DOP853 on the generated right-hand side: states (len(t_eval), 2) at ``t_eval``.
 
     Starts from ``y0`` (2,) at t_eval[0]; ``t_eval`` must be monotonic.  The reference that
-    measures RK4's error (:func:`rk4_error`); raises InputError if the solver fails.
+    measures RK4's error (:func:`rk4_error`); raises InputError if the solver fails, if a
+    state stops being finite, or after ``max_evaluations`` evaluations of the right-hand side
+    (None: no bound; DOP853 takes 12 per step).
     """
     from scipy.integrate import solve_ivp
     y0, p = _check_point(fos, y0, params)
@@ -335,12 +342,25 @@ def reference_trajectory(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, a
     f = _numpy_rhs(fos, linear)
     pc = p.reshape(-1, 1)
 
+    count = [0]
+
     def fun(t, y):
+        count[0] += 1
+        if max_evaluations is not None and count[0] > max_evaluations:
+            raise _TooManyEvaluations
         return f(t, y, pc)
-    sol = solve_ivp(fun, (t_eval[0], t_eval[-1]), y0, method="DOP853", t_eval=t_eval,
-                    rtol=rtol, atol=atol, vectorized=True)
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(fun, (t_eval[0], t_eval[-1]), y0, method="DOP853", t_eval=t_eval,
+                            rtol=rtol, atol=atol, vectorized=True)
+    except _TooManyEvaluations:
+        raise InputError(f"the reference (DOP853 at rtol {rtol:g}) passed {max_evaluations} "
+                         "evaluations of the right-hand side before reaching the end (a fast "
+                         "oscillation or rotation); ask for fewer periods or smaller values") from None
     if not sol.success:
         raise InputError(f"reference integration (DOP853) failed: {sol.message}")
+    if not np.all(np.isfinite(sol.y)):
+        raise InputError("reference integration (DOP853) overflowed (a state is no longer finite)")
     return sol.y.T.copy()
 
 

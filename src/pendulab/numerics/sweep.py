@@ -65,8 +65,9 @@ MAX_CELLS = 4_000_000
 #: (4 ns per step per trajectory, benchmarks/bench_rk4.py) and five minutes on
 #: the NumPy fallback.
 MAX_STEPS = 3_000_000_000
-#: Largest |a/l|, |omega0/omega|, |theta(0)|, |dtheta/dtau(0)| a sweep or a simulation takes.
-MAX_MAGNITUDE = 1e4
+#: Largest |a/l|, |omega0/omega|, |theta(0)|, |dtheta/dtau(0)| a sweep or a simulation takes
+#: (the command line's ranges: pendulab.limits.LIMITS["sweep.theta_init"] ...).
+from pendulab.limits import MAX_MAGNITUDE  # noqa: E402
 #: Seconds to wait for a Dask scheduler before giving up.
 CONNECT_TIMEOUT = 3.0
 #: Progress bars appear only after this many seconds.
@@ -242,10 +243,16 @@ def _count(value, name, minimum=1, maximum=None):
     return value
 
 
+def _range(name):
+    """(min, max) of ``pendulab.limits.LIMITS[name]``."""
+    from pendulab.limits import LIMITS
+    return LIMITS[name][1:3]
+
+
 def linspace_grid(n):
     """n values on [0, 1], both ends included (n = 1 gives [0.0]), as a tuple of floats."""
     import numpy as np
-    n = _count(n, "grid", 1, 2000)
+    n = _count(n, "grid", *_range("experiments.grid"))
     return tuple(float(v) for v in np.linspace(0.0, 1.0, n))
 
 
@@ -304,12 +311,15 @@ def make_spec(system=None, grid=None, *, a_over_l=None, w0_over_w=None, theta_in
     if criterion not in CRITERIA:
         problems.append(f"criterion must be one of {', '.join(CRITERIA)}, got {criterion!r}")
     axes = {}
+    grid_values = None
+    if grid is not None and (a_over_l is None or w0_over_w is None):
+        grid_values = collect(linspace_grid, grid)  # once: one message for both axes
     for name, values in (("a_over_l", a_over_l), ("w0_over_w", w0_over_w)):
         if values is None:
             if grid is None:
                 problems.append(f"give grid or {name}")
                 continue
-            values = collect(linspace_grid, grid)
+            values = grid_values
         else:
             values = tuple(collect(_finite, v, f"{name}[{k}]") for k, v in enumerate(values))
             if not values:
@@ -331,8 +341,9 @@ def make_spec(system=None, grid=None, *, a_over_l=None, w0_over_w=None, theta_in
         pairs.append((collect(_finite, th, label[0]), collect(_finite, om, label[1])))
     if not pairs:
         problems.append("no initial conditions")
-    periods = collect(_count, periods, "periods", 1, 10**6)
-    steps = collect(_count, steps_per_period, "steps-per-period", 1, 10**5)
+    periods = collect(_count, periods, "periods", *_range("experiments.periods"))
+    steps = collect(_count, steps_per_period, "steps-per-period",
+                    *_range("experiments.steps_per_period"))
     chunk = collect(_count, chunk_size, "chunk_size", 1)
     if problems:
         raise InputError("; ".join(problems))
@@ -341,7 +352,7 @@ def make_spec(system=None, grid=None, *, a_over_l=None, w0_over_w=None, theta_in
     if spec.cells > MAX_CELLS:
         raise InputError(f"the sweep has {spec.cells} cells; at most {MAX_CELLS} are allowed")
     work = spec.cells * periods * steps
-    if work > MAX_STEPS:
+    if work > MAX_STEPS and criterion != "floquet":  # the floquet criterion integrates nothing
         raise InputError(f"the sweep asks for {spec.cells} trajectories x {periods * steps} RK4 "
                          f"steps = {work:.3g} steps; at most {MAX_STEPS:.0e} (about 12 s with "
                          "the C kernel): fewer cells, periods or steps per period")
@@ -868,13 +879,15 @@ def pruned_sweep(spec, margin=MARGIN, **kwargs):
     return out
 
 
-def trajectory(spec, reference=False, backend="auto"):
+def trajectory(spec, reference=False, backend="auto", max_evaluations=None):
     """One RK4 trajectory of the single cell of ``spec`` and its statistics.
 
     Returns {"tau": (steps+1,), "states": (steps+1, 2), "mean_theta",
     "mean_abs_theta", "max_abs_theta" (floats, over every step), "backend"};
     with ``reference`` also "reference" (DOP853 at rtol 1e-13 at the same
-    tau) and "max_error_theta".
+    tau) and "max_error_theta".  The reference is refused (InputError) when
+    the RK4 run is no longer finite, and after ``max_evaluations`` right-hand
+    side evaluations (see :func:`pendulab.numerics.integrate.reference_trajectory`).
     """
     import numpy as np
 
@@ -894,7 +907,12 @@ def trajectory(spec, reference=False, backend="auto"):
            **{k: float(stats[k][0]) for k in STATS}}
     theta = states[:, 0]
     if reference:
-        ref = np.asarray(reference_trajectory(fos, y0[0], params[0], tau, linear=spec.linear), float)
+        if not np.all(np.isfinite(states)):
+            raise InputError("the RK4 trajectory overflowed (theta is no longer finite), so there "
+                             "is nothing to compare with DOP853; use fewer periods or more steps "
+                             "per period")
+        ref = np.asarray(reference_trajectory(fos, y0[0], params[0], tau, linear=spec.linear,
+                                              max_evaluations=max_evaluations), float)
         rec["reference"] = ref
         rec["max_error_theta"] = float(np.max(np.abs(ref[:, 0] - theta)))
     return rec

@@ -205,7 +205,8 @@ def first_band(theta0, dps=None, method=None):
         raise InputError(f"theta0 = {theta0} >= 1: the first stable band at theta0 >= 1 "
                          "is not the one that starts at theta1 = 0")
     if abs(X0) > SIZE_LIMIT:
-        raise InputError(f"|theta0| = {_size_text(X0)} is too large (limit {SIZE_LIMIT:g})")
+        raise InputError(f"|theta0| = {_size_text(abs(X0), SIZE_LIMIT)} is too large "
+                         f"(limit {SIZE_LIMIT:g})")
     if method == "arb":
         return _band_certified(X0, dps, f"first_band({theta0})")
     return _band_at_two_precisions(lambda ww: _first_band_mp(_mp(X0), ww), dps,

@@ -104,10 +104,18 @@ def _check_dps(dps, name="dps"):
     return dps
 
 
-def _size_text(v):
-    """Short text of an exact value that may be far beyond the float range."""
-    with mpmath.workdps(5):
-        return mpmath.nstr(_mp(v), 3)
+def _size_text(v, above=None):
+    """Short text of an exact value that may be far beyond the float range.
+
+    With ``above`` (a limit that ``v`` exceeds) the text has as many digits (3 to 30) as
+    it takes to read as more than the limit: 4000000.5, not 4.0e+6 next to 4e+06.
+    """
+    for digits in range(3, 31):
+        with mpmath.workdps(digits + 5):
+            text = mpmath.nstr(_mp(v), digits)
+            if above is None or mpmath.mpf(text) > above:
+                return text
+    return text + " (just above)"
 
 
 def _check_size(X0, X1, limit, what, names=("theta0", "theta1")):
@@ -115,8 +123,8 @@ def _check_size(X0, X1, limit, what, names=("theta0", "theta1")):
     values beyond the float range such as 1e400 are refused, not overflowed)."""
     size = abs(X0) + 2 * abs(X1)
     if size > limit:
-        raise InputError(f"|{names[0]}| + 2|{names[1]}| = {_size_text(size)} is too large for "
-                         f"{what} (limit {limit:g}; the work grows like its square root)")
+        raise InputError(f"|{names[0]}| + 2|{names[1]}| = {_size_text(size, limit)} is too large "
+                         f"for {what} (limit {limit:g}; the work grows like its square root)")
 
 
 def _is_zero(v):
