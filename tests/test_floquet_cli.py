@@ -81,7 +81,8 @@ def test_product_is_deterministic_and_correct(tmp_path, capsys):
         assert abs(mpmath.mpf(doc["limits"][0]["lower"]) - lo) < 1e-19
         assert abs(mpmath.mpf(doc["limits"][0]["upper"]) - up) < 1e-19
     # the default route proves its digits and says so, for points and limits
-    assert doc["method"] == "arb"
+    assert doc["method"] == "auto"                       # the API's choice, point by point:
+    assert [p["method"] for p in doc["points"]] == ["arb", "arb"]   # small points with dps
     assert [p["certified_digits"] for p in doc["points"]] == [20, 20]
     assert doc["limits"][0]["certified_digits"] == 20
     # the mpmath limits at 30 digits agree with the certified 20

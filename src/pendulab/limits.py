@@ -323,15 +323,26 @@ def _size(value):
         return None
 
 
+#: Largest |theta0| + 2|theta1| of method "arb" (pendulab.analyses.floquet.SIZE_LIMITS["arb"],
+#: not imported here so that the command line starts without mpmath; a test checks they agree).
+ARB_SIZE = 3e4
+
+
 def floquet_seconds(points, ratios, dps, method):
-    """Estimated seconds of Floquet work: ``points`` [theta0, theta1] pairs, ``ratios`` omega0/omega."""
-    coef, exp = FLOQUET_POINT_MODEL.get(method, FLOQUET_POINT_MODEL["monodromy"])
+    """Estimated seconds of Floquet work: ``points`` [theta0, theta1] pairs, ``ratios`` omega0/omega.
+
+    ``method`` "auto" (or None) is the API's own choice, point by point: "arb" with ``dps``
+    up to |theta0| + 2|theta1| <= ARB_SIZE, "hill" otherwise."""
     scale = max(1.0, (dps or 16) / 30)
     total = 0.0
     for pt in points:
         if isinstance(pt, (list, tuple)) and len(pt) == 2:
             x0, x1 = _size(pt[0]), _size(pt[1])
             if x0 is not None and x1 is not None:
+                used = method
+                if method in (None, "auto"):
+                    used = "arb" if dps is not None and x0 + 2 * x1 <= ARB_SIZE else "hill"
+                coef, exp = FLOQUET_POINT_MODEL.get(used, FLOQUET_POINT_MODEL["monodromy"])
                 total += _POINT_BASE + coef * (1 + x0 + 2 * x1) ** 0.5 * scale ** exp
     base, rcoef, rexp = FLOQUET_RATIO_MODEL
     for r in ratios:

@@ -21,7 +21,8 @@ OPTIONS = {
     "points": _limited("floquet.points"),
     "ratios": _limited("floquet.ratios"),
     "dps": _limited("floquet.dps"),
-    "method": (str, "arb", "arb (every digit proved), hill, cf or monodromy"),
+    "method": (str, "auto", "auto (arb, every digit proved, where |theta0| + 2|theta1| <= 3e4; "
+                            "hill beyond), arb, hill, cf or monodromy"),
 }
 SYSTEMS = ("kapitza",)
 
@@ -103,17 +104,19 @@ def check_options(options):
     from pendulab.analyses.floquet import METHODS, SIZE_LIMITS, _check_size, _exact
     from pendulab.errors import InputError
     problems = []
+    from pendulab.analyses.floquet._exponent import default_method
     method = options["method"]
-    if method not in METHODS:
-        problems.append(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if method not in METHODS + ("auto",):
+        problems.append(f"method must be auto or one of {', '.join(METHODS)}, got {method!r}")
     for i, pt in enumerate(options["points"]):
         try:
             if not isinstance(pt, list) or len(pt) != 2:
                 raise InputError(f"points[{i}] must be a [theta0, theta1] pair, got {pt!r}"[:80])
             x0 = _exact(_text(pt[0], f"points[{i}][0]"), f"points[{i}][0]")
             x1 = _exact(_text(pt[1], f"points[{i}][1]"), f"points[{i}][1]")
-            if method in METHODS:
-                _check_size(x0, x1, SIZE_LIMITS[method], f"method {method!r}",
+            used = default_method(x0, x1, options["dps"]) if method == "auto" else method
+            if used in METHODS:
+                _check_size(x0, x1, SIZE_LIMITS[used], f"method {used!r}",
                             names=(f"points[{i}][0]", f"points[{i}][1]"))
         except InputError as exc:
             problems.append(str(exc).replace("floquet product: ", ""))
@@ -143,8 +146,10 @@ def produce(ctx, options):
 
     dps = options["dps"]
     method = options["method"]
-    if method not in METHODS:
-        raise InputError(f"floquet product: method must be one of {', '.join(METHODS)}, got {method!r}")
+    if method not in METHODS + ("auto",):
+        raise InputError(f"floquet product: method must be auto or one of {', '.join(METHODS)}, "
+                         f"got {method!r}")
+    route = None if method == "auto" else method  # None: the API's own rule, point by point
     from pendulab import limits
     for key in ("dps", "points", "ratios"):
         limits.check(f"floquet.{key}", options[key], label=f"floquet product: {key}")
@@ -159,7 +164,7 @@ def produce(ctx, options):
     ratios = [_text(r, f"ratios[{i}]") for i, r in enumerate(options["ratios"])]
 
     # all input is checked before any number is computed
-    records = [result_record(characteristic_exponent(t0, t1, dps=dps, method=method), t0, t1)
+    records = [result_record(characteristic_exponent(t0, t1, dps=dps, method=route), t0, t1)
                for t0, t1 in points]
 
     system = ctx.get("system")
@@ -195,5 +200,5 @@ def produce(ctx, options):
         doc.update(_drive_record(pmap))
     values = getattr(ctx.scene, "values", None)
     if values:
-        doc["scene_point"] = scene_point(ctx, pmap, dps, method)
+        doc["scene_point"] = scene_point(ctx, pmap, dps, route)
     return {"floquet.json": canonical_json(doc)}
