@@ -258,7 +258,9 @@ def load(fos, required=False):
     return None
 
 
-def _build(source, nparams):
+def _compiled(source, load):
+    """Compile ``source`` (cached by hash) with the first flag set that works and return
+    ``load(path, flags)``, or a one-line reason why no kernel could be built or loaded."""
     cmd = compiler_command()
     if not cmd:
         return "no C compiler"
@@ -277,10 +279,14 @@ def _build(source, nparams):
                 errors.append(err)
                 continue
         try:
-            return Kernel(target, nparams, flags)
+            return load(target, flags)
         except OSError as exc:
             errors.append(_first_line(str(exc)))
     return f"{cmd[0]} failed: {errors[0] if errors else 'unknown error'}"
+
+
+def _build(source, nparams):
+    return _compiled(source, lambda target, flags: Kernel(target, nparams, flags))
 
 
 _PROBE = "int pendulab_probe(void) { return 1; }\n"
@@ -341,25 +347,4 @@ def load_source(name, source, required=False):
 
 
 def _build_cdll(source):
-    cmd = compiler_command()
-    if not cmd:
-        return "no C compiler"
-    identity = _identity(cmd)
-    if identity is None:
-        return f"C compiler {cmd[0]!r} not found or not runnable (set PENDULAB_CC or CC)"
-    errors = []
-    for flags in FLAG_SETS:
-        target = cache_dir() / f"{_key(source, identity, flags)}.so"
-        if not target.exists():
-            try:
-                err = _compile(source, cmd, flags, target)
-            except OSError as exc:
-                return f"cannot write the kernel cache {target.parent}: {exc.strerror}"
-            if err is not None:
-                errors.append(err)
-                continue
-        try:
-            return ctypes.CDLL(str(target))
-        except OSError as exc:
-            errors.append(_first_line(str(exc)))
-    return f"{cmd[0]} failed: {errors[0] if errors else 'unknown error'}"
+    return _compiled(source, lambda target, flags: ctypes.CDLL(str(target)))

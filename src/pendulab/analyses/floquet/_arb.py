@@ -48,22 +48,8 @@ from fractions import Fraction
 
 from flint import acb, arb, ctx, fmpq, fmpz
 
-from pendulab.analyses.bessel_zeros import ball_digits
+from pendulab.analyses.bessel_zeros import _Prec, ball_digits  # the one flint precision guard
 from pendulab.analyses.floquet._bands import FAMILIES, _edge_index, _tail_steps
-
-
-class _Prec:
-    """python-flint's working precision in bits, restored afterwards."""
-
-    def __init__(self, bits):
-        self.bits = bits
-
-    def __enter__(self):
-        self.saved = ctx.prec
-        ctx.prec = self.bits
-
-    def __exit__(self, *exc):
-        ctx.prec = self.saved
 
 
 def bits_of(digits):
