@@ -119,12 +119,27 @@ def make_parser():
     return parser
 
 
+_INTERRUPTED = []
+
+
+def _on_interrupt(signum, frame):
+    # remembered, so that an import torn by Ctrl-C (ImportError: initialization failed)
+    # is reported as the interruption it is
+    _INTERRUPTED.append(signum)
+    raise KeyboardInterrupt
+
+
 def main(argv=None):
+    import signal
+    import threading
+
     from pendulab.errors import PendulabError
     parser = make_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
     every, valued = _option_strings(parser)
     args = parser.parse_args(join_negative_values(argv, valued, every))
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, _on_interrupt)
     try:
         return int(args.func(args) or 0)
     except PendulabError as exc:
@@ -133,6 +148,12 @@ def main(argv=None):
         return 2
     except BrokenPipeError:
         return 1
+    except (KeyboardInterrupt, Exception):
+        if not _INTERRUPTED and not isinstance(sys.exc_info()[1], KeyboardInterrupt):
+            raise
+        print("pendulab: error: interrupted (outputs are published whole or not at all)",
+              file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

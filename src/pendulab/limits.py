@@ -27,7 +27,38 @@ pendulab.errors.InputError: series.order must be an integer from 1 to 60, got 0
 '1 to 100 entries'
 """
 
+import re
 from fractions import Fraction
+
+#: Largest decimal exponent accepted in number text ("1e4000"): beyond it every range is
+#: passed by far, and the exact value would take minutes to expand (1e99999999999 hangs Fraction).
+MAX_EXPONENT = 4000
+_NUMBER_TEXT = re.compile(r"^[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE]([+-]?[0-9]+))?$")
+
+
+def fraction(text):
+    """The exact value of decimal or fraction text ("-0.002", "1e-3", "-1/5").
+
+    ASCII digits only; exponents beyond +-MAX_EXPONENT are refused before any expansion.
+    Raises ValueError (with a short reason) or ZeroDivisionError.
+
+    >>> fraction("-1/5"), fraction("2.5e-1")
+    (Fraction(-1, 5), Fraction(1, 4))
+    """
+    parts = str(text).strip().split("/")
+    if len(parts) > 2:
+        raise ValueError("not a decimal or a fraction")
+    values = []
+    for part in parts:
+        part = part.strip()
+        m = _NUMBER_TEXT.match(part)
+        if not m:
+            raise ValueError("not a decimal or a fraction")
+        if m.group(3) is not None and abs(int(m.group(3))) > MAX_EXPONENT:
+            raise ValueError(f"exponent {m.group(3)} is beyond +-{MAX_EXPONENT}")
+        values.append(Fraction(part))
+    return values[0] if len(values) == 1 else values[0] / values[1]
+
 
 from pendulab.errors import InputError
 
@@ -184,7 +215,7 @@ def parse(name, text, label=None):
         return check(name, value, label)
     if kind in (float, "positive"):
         try:
-            value = Fraction(text.strip())
+            value = fraction(text)
         except (ValueError, ZeroDivisionError):
             value = text
         try:
@@ -283,7 +314,7 @@ def check(name, value, label=None):
         return value
     if kind == "fraction":
         try:
-            number = Fraction(str(value).strip()) if isinstance(value, (str, int)) and \
+            number = fraction(value) if isinstance(value, (str, int)) and \
                 not isinstance(value, bool) else None
         except (ValueError, ZeroDivisionError):
             number = None
@@ -317,7 +348,8 @@ def _size(value):
     if isinstance(value, bool):
         return None
     try:
-        return abs(float(Fraction(str(value).strip()))) if isinstance(value, (str, int, float)) \
+        return abs(float(fraction(value))) if isinstance(value, (str, int)) else \
+            abs(float(value)) if isinstance(value, float) \
             else None
     except (ValueError, ZeroDivisionError, OverflowError):
         return None

@@ -33,7 +33,6 @@ The symbolic formulas are turned into numbers here, never re-typed.
 import functools
 import math
 import numbers
-from fractions import Fraction
 
 from pendulab.errors import InputError, PendulabError
 from pendulab.limits import LIMITS
@@ -61,8 +60,9 @@ def _number(value, name):
     if isinstance(value, str):
         text = value.strip()
         try:
-            value = float(Fraction(text)) if "/" in text else float(text)
-        except (ValueError, ZeroDivisionError):
+            from pendulab.limits import fraction
+            value = float(fraction(text))
+        except (ValueError, ZeroDivisionError, OverflowError):
             raise InputError(f"{name} must be a number, got {text!r}") from None
     if not isinstance(value, numbers.Real):
         try:

@@ -20,7 +20,7 @@ from pendulab.analyses.floquet._charvalues import (
     _band_at_two_precisions, _band_certified, _first_band_mp, _value_method,
 )
 from pendulab.analyses.floquet._inputs import SIZE_LIMIT, _check_dps, _exact, _mp
-from pendulab.errors import InputError
+from pendulab.errors import InputError, PrecisionError
 
 __all__ = ["stability_limits", "map_limits", "stability_map", "map_stability"]
 
@@ -74,7 +74,7 @@ def map_limits(pmap, point, dps=None, what="the limits", method=None):
     ``certified_digits`` says how many digits are proved (None: mpmath).
     """
     dps = _check_dps(dps)
-    method = _value_method(method, dps, "map_limits")
+    asked, method = method, _value_method(method, dps, "map_limits")
     exact = {k: (v if isinstance(v, (Fraction, mpmath.mpf)) else _exact(v, k))
              for k, v in point.items()}
     if method == "arb":
@@ -84,7 +84,11 @@ def map_limits(pmap, point, dps=None, what="the limits", method=None):
             if th0 >= 1:
                 raise InputError(f"theta0 = {float(th0):.8g} >= 1: the first stable band at "
                                  "theta0 >= 1 is not the one that starts at theta1 = 0")
-            return _band_certified(th0, dps, what, scale=abs(scale))
+            try:
+                return _band_certified(th0, dps, what, scale=abs(scale))
+            except PrecisionError:
+                if asked is not None:
+                    raise  # the default route falls back to mpmath (no digits claimed)
 
     def band(ww):
         args = {k: _mp(v) for k, v in exact.items()}

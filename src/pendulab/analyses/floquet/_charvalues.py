@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import mpmath
 
-from pendulab.errors import ConvergenceError, InputError
+from pendulab.errors import ConvergenceError, InputError, PrecisionError
 from pendulab.analyses.floquet._bands import _edge_index, _family_diagonals, _tail_steps
 from pendulab.analyses.floquet._cf import _illinois
 from pendulab.analyses.floquet._inputs import (
@@ -108,7 +108,7 @@ def _char_value(kind, m, q, dps, method=None):
     if kind == "b" and m < 1:
         raise InputError(f"{name}: order m must be >= 1, got {m}")
     dps = _check_dps(dps)
-    method = _value_method(method, dps, name)
+    asked, method = method, _value_method(method, dps, name)
     Q = _exact(q, "q")
     _check_size(m * m, Q, SIZE_LIMIT, name, names=("m^2", "q"))
     want = DOUBLE_DPS if dps is None else dps
@@ -117,10 +117,17 @@ def _char_value(kind, m, q, dps, method=None):
         val = mpmath.mpf(m * m)
         return float(val) if dps is None else val
     what = f"{name}({m}, {q})"
+    v = None
     if method == "arb":
         from pendulab.analyses.floquet._arb import char_value_at
-        v = _certified(lambda w: char_value_at(family, j, Q, want, w), want, what)
-    else:
+        try:
+            v = _certified(lambda w: char_value_at(family, j, Q, want, w), want, what)
+        except PrecisionError:
+            if asked is not None:
+                raise
+            # the default route: where the balls cannot be made narrow enough (tiny q,
+            # where neighbouring Sturm pivots nearly vanish) the mpmath route answers
+    if v is None:
         def compute(w):
             with mpmath.workdps(w):
                 return _char_value_mp(family, j, _mp(Q), w)
@@ -199,7 +206,7 @@ def first_band(theta0, dps=None, method=None):
     30
     """
     dps = _check_dps(dps)
-    method = _value_method(method, dps, "first_band")
+    asked, method = method, _value_method(method, dps, "first_band")
     X0 = _exact(theta0, "theta0")
     if X0 >= 1:
         raise InputError(f"theta0 = {theta0} >= 1: the first stable band at theta0 >= 1 "
@@ -208,7 +215,11 @@ def first_band(theta0, dps=None, method=None):
         raise InputError(f"|theta0| = {_size_text(abs(X0), SIZE_LIMIT)} is too large "
                          f"(limit {SIZE_LIMIT:g})")
     if method == "arb":
-        return _band_certified(X0, dps, f"first_band({theta0})")
+        try:
+            return _band_certified(X0, dps, f"first_band({theta0})")
+        except PrecisionError:
+            if asked is not None:
+                raise  # the default route falls back to mpmath (no digits claimed)
     return _band_at_two_precisions(lambda ww: _first_band_mp(_mp(X0), ww), dps,
                                    f"first_band({theta0})")
 
@@ -276,10 +287,18 @@ def _first_band_mp(th0, w):
 
 
 def _first_band_mp_once(th0, w):
-    """|q| at the ends of the first band at theta0 = th0 (an mpf, th0 < 1), at dps w."""
+    """|q| at the ends of the first band at theta0 = th0 (an mpf, th0 < 1), to w digits.
+
+    Near theta0 = 0 the lower end solves a_0(q) = theta0 with a_0(q) ~ -q^2/2 (DLMF
+    28.6.1): both sides are of size |theta0|, so the characteristic value and the root
+    are computed with -log10|theta0| more digits, which keeps w significant digits of
+    the root however small it is (an absolute tolerance lost them below ~1e-16).
+    """
     if th0 >= 1:
         raise InputError(f"theta0 = {mpmath.nstr(th0, 8)} >= 1: the first stable band at "
                          "theta0 >= 1 is not the one that starts at theta1 = 0")
+    if th0 != 0 and abs(th0) < 1:
+        w = w + int(mpmath.ceil(-mpmath.log10(abs(th0)))) + 2
     with mpmath.workdps(w):
         out = []
         for family in ("a_even", "b_odd"):

@@ -58,21 +58,16 @@ def _exact(x, name):
             raise InputError(f"{name} must be finite, got {x}")
         return x
     if isinstance(x, str):
-        s = x.strip()
+        from pendulab.limits import fraction
         try:
-            if "/" in s:
-                num, den = s.split("/")
-                num, den = num.strip(), den.strip()
-                if not (_DEC.match(num) and _DEC.match(den)):
-                    raise ValueError
-                val = Fraction(num) / Fraction(den)
-            else:
-                if not _DEC.match(s):
-                    raise ValueError
-                val = Fraction(s)
-        except (ValueError, ZeroDivisionError):
+            val = fraction(x)
+        except ValueError as exc:
+            reason = "" if str(exc).startswith("not a") else f" ({exc})"
             raise InputError(f"{name} must be a real number such as -0.002 or 1/5, "
-                             f"got {x!r}") from None
+                             f"got {x[:60]!r}{reason}") from None
+        except ZeroDivisionError:
+            raise InputError(f"{name} must be a real number such as -0.002 or 1/5, "
+                             f"got {x[:60]!r} (division by zero)") from None
         return val
     try:  # numpy scalars, sympy numbers
         import numbers
