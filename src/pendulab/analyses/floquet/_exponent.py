@@ -72,7 +72,10 @@ class FloquetResult:
                  imaginary part in a gap, whose real part e is exact) proved by ball
                  arithmetic -- every one of them is the correctly rounded digit of
                  the exact exponent; None for the mpmath routes, for double
-                 precision and on a boundary (lam = e by convention, not proved)
+                 precision and on a boundary that is not decided exactly (lam = e
+                 by convention, not proved).  With theta1 = 0, lam = sqrt(theta0)
+                 is exact, so its digits count as proved, on the curve
+                 theta0 = k^2 too (on_boundary True, lam = k exactly).
     """
 
     lam: object
