@@ -86,3 +86,15 @@ def test_ctrl_c_during_a_build_is_one_line(tmp_path, jobs):
         "pendulab: error: interrupted (outputs are published whole or not at all)"], err
     assert not (tmp_path / "out").exists() or not any(
         d.name.startswith(".") and d.is_dir() for d in (tmp_path / "out").iterdir())
+
+
+def test_map_beyond_the_float_range_is_refused_without_warnings():
+    import warnings
+
+    import numpy as np
+
+    from pendulab.analyses.floquet import stability_map
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(InputError, match="not finite"):
+            stability_map(np.array([0.1]), np.array([1e300]))

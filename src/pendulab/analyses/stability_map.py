@@ -182,16 +182,17 @@ def map_stability(pmap, al_values, ratio_values, **groups):
     if getattr(pmap, "kind", "mathieu") != "mathieu":  # the map's own one-line refusal
         pmap.evaluate("theta0", dict(groups, a_over_l=al, w0_over_w=ra))
     separable = not pmap.theta0.has(S.a_over_l) and not pmap.theta1.has(S.w0_over_w)
-    if separable:
-        th0 = np.broadcast_to(np.asarray(pmap.evaluate("theta0", dict(groups, w0_over_w=ra)),
-                                         dtype=float), ra.shape)[:, None]
-        th1 = np.broadcast_to(np.asarray(pmap.evaluate("theta1", dict(groups, a_over_l=al,
-                                                                      w0_over_w=0.0)),
-                                         dtype=float), al.shape)[None, :]
-    else:
-        point = dict(groups, a_over_l=al[None, :], w0_over_w=ra[:, None])
-        th0 = np.broadcast_to(np.asarray(pmap.evaluate("theta0", point), dtype=float), shape)
-        th1 = np.broadcast_to(np.asarray(pmap.evaluate("theta1", point), dtype=float), shape)
+    with np.errstate(over="ignore", invalid="ignore"):  # overflow: refused just below
+        if separable:
+            th0 = np.broadcast_to(np.asarray(pmap.evaluate("theta0", dict(groups, w0_over_w=ra)),
+                                             dtype=float), ra.shape)[:, None]
+            th1 = np.broadcast_to(np.asarray(pmap.evaluate("theta1", dict(groups, a_over_l=al,
+                                                                          w0_over_w=0.0)),
+                                             dtype=float), al.shape)[None, :]
+        else:
+            point = dict(groups, a_over_l=al[None, :], w0_over_w=ra[:, None])
+            th0 = np.broadcast_to(np.asarray(pmap.evaluate("theta0", point), dtype=float), shape)
+            th1 = np.broadcast_to(np.asarray(pmap.evaluate("theta1", point), dtype=float), shape)
     if not (np.all(np.isfinite(th0)) and np.all(np.isfinite(th1))):
         raise InputError("theta0 or theta1 of the map is not finite on the grid")
     size = float(np.max(np.abs(th0))) + 2.0 * float(np.max(np.abs(th1)))
