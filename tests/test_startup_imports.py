@@ -74,3 +74,13 @@ def test_ground_types_pin_survives_the_lazy_imports():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
                          check=True).stdout.split()
     assert out[0] == "gmpy" and out[1:] == ["x", "+", "1"]
+
+
+@pytest.mark.parametrize("argv", [["series", "--order", "3"], ["series", "--order", "3", "--kind", "a0"],
+                                  ["series", "--order", "3", "--json"]])
+def test_the_series_command_prints_without_sympy(argv):
+    # the exact series come from python-flint / Fractions and print as text (RatFun.text):
+    # SymPy is needed only for --latex
+    res = _probe(argv)
+    assert res["code"] == 0, res["err"]
+    assert "sympy" not in res["heavy"]

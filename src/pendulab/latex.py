@@ -16,8 +16,6 @@ True
 
 import re
 
-import sympy as sp
-
 #: Width (in visible characters) of one line of display math in an 11pt
 #: article with 2.5 cm margins; measured by compiling (tests/test_latex.py).
 LINE_WIDTH = 64
@@ -71,6 +69,8 @@ def fill(tokens, width=LINE_WIDTH):
 
 def _term_tokens(expr):
     """Signed LaTeX tokens of the terms of ``expr`` in SymPy's print order."""
+    import sympy as sp  # here, not at the top: the series command prints without SymPy
+
     terms = expr.as_ordered_terms() if isinstance(expr, sp.Add) else [expr]
     tokens = []
     for k, term in enumerate(terms):
@@ -90,6 +90,8 @@ def sum_rows(lhs, expr, rhs="", width=LINE_WIDTH):
     One row when it fits; otherwise the terms of the sum continue on rows that
     start with ``&\\quad``.
     """
+    import sympy as sp
+
     tokens = _term_tokens(sp.sympify(expr))
     if lhs:
         head, tail = f"{lhs} &= ", ""
