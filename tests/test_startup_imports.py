@@ -80,7 +80,7 @@ def test_ground_types_pin_survives_the_lazy_imports():
                                   ["series", "--order", "3", "--json"]])
 def test_the_series_command_prints_without_sympy(argv):
     # the exact series come from python-flint / Fractions and print as text (RatFun.text):
-    # SymPy is needed only for --latex
+    # (--latex too: its TeX is written from the same exact data)
     res = _probe(argv)
     assert res["code"] == 0, res["err"]
     assert "sympy" not in res["heavy"]
