@@ -138,13 +138,9 @@ def exponent(theta0, theta1):
         k = (cnt[inb] - 1) // 2
         absq = np.abs(f1[inb])
         t0, lo, hi = f0[inb], below[inb], above[inb]
-        lam = np.empty(inb.size)
         # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
         octave = np.floor(np.log2(absq)).clip(-4, None).astype(np.int64)
-        for sel in _groups(k * 4096 + octave):
-            R = _shifted_rows(float(hi[sel].max()), float(absq[sel].max()))
-            lam[sel] = _band_nu(t0[sel], absq[sel] ** 2, k[sel], lo[sel], hi[sel], R)
-        out[inb] = lam
+        out[inb] = _by_groups(_band_nu, _band_nu_guess, t0, absq, k, lo, hi, octave)
     rest = np.ones(f0.shape, dtype=bool)
     rest[inb] = False
     rest &= ~zero
@@ -158,10 +154,55 @@ def _groups(key):
     """Index arrays of the points sharing each value of ``key`` (one sort)."""
     import numpy as np
 
-    order = np.argsort(key, kind="stable")
+    order, cuts = _group_order(key)
+    return np.split(order, cuts[1:-1])
+
+
+def _group_order(key):
+    """(order, cuts): the stable sort of the integer array ``key`` and the
+    boundaries [0, ..., key.size] of its runs of equal values.  A key spanning
+    fewer than 2^15 values is sorted as int16 (radix sort, the same order)."""
+    import numpy as np
+
+    if key.size == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int64)
+    kmin = int(key.min())
+    if int(key.max()) - kmin < 32767:
+        order = np.argsort((key - kmin).astype(np.int16), kind="stable")
+    else:
+        order = np.argsort(key, kind="stable")
     ks = key[order]
-    cuts = np.nonzero(np.diff(ks))[0] + 1
-    return np.split(order, cuts)
+    cuts = np.concatenate(([0], np.nonzero(ks[1:] != ks[:-1])[0] + 1, [key.size]))
+    return order, cuts
+
+
+def _by_groups(solve, guess, p, absq, k, lo, hi, octave):
+    """``solve`` (:func:`_band_eigen` or :func:`_band_nu`) on all points, one
+    truncation R per group of equal (k, octave) (R from the group's largest hi
+    and |q|): the points are sorted by group once, each group is a contiguous
+    slice; with the C kernel the guess (``guess``, elementwise) is taken for all
+    points at once.  Returns the results in the order of the inputs."""
+    import numpy as np
+
+    order, cuts = _group_order(k * 4096 + octave)
+    P, A, K, LO, HI = p[order], absq[order], k[order], lo[order], hi[order]
+    Q2 = A * A
+    res = np.empty(p.size)
+    lib = _c_band()
+    if lib is not None:
+        X0 = guess(P, K, LO, HI)
+        kind, extra, maxit = (0, 2, 120) if solve is _band_eigen else (1, 4, 200)
+    for s0, s1 in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
+        sl = slice(s0, s1)
+        R = _shifted_rows(float(HI[sl].max()), float(A[sl].max()))
+        if lib is not None:
+            res[sl] = _c_newton(lib, kind, P[sl], Q2[sl], K[sl], LO[sl], HI[sl], X0[sl], R,
+                                int(R) + extra, maxit)
+        else:
+            res[sl] = solve(P[sl], Q2[sl], K[sl], LO[sl], HI[sl], R)
+    out = np.empty(p.size)
+    out[order] = res
+    return out
 
 
 def _bands_fast(f0, f1):
@@ -181,14 +222,22 @@ def _bands_fast(f0, f1):
         E, _ = _certify_edges(qs, reach)
     except PrecisionError:
         return _bands_double(f0, f1)
-    Ei = E[inv]
-    cnt = np.sum(Ei < f0[:, None], axis=1)
     ne = E.shape[1]
-    rows = np.arange(f0.size)
-    below = np.where(cnt > 0, Ei[rows, np.clip(cnt - 1, 0, max(ne - 1, 0))], -np.inf) if ne else \
-        np.full(f0.shape, -np.inf)
-    above = np.where(cnt < ne, Ei[rows, np.clip(cnt, 0, max(ne - 1, 0))], np.inf) if ne else \
-        np.full(f0.shape, np.inf)
+    # the count of edges below theta0, one column (ascending) at a time; the
+    # rows are sorted, so no later column counts once one does not
+    cnt = np.zeros(f0.size, dtype=np.int64)
+    ET = np.ascontiguousarray(E.T)
+    for j in range(ne):
+        c = ET[j][inv] < f0
+        if not c.any():
+            break
+        cnt += c
+    if not ne:
+        return cnt, np.full(f0.shape, -np.inf), np.full(f0.shape, np.inf)
+    Ef = E.ravel()
+    base = inv * ne
+    below = np.where(cnt > 0, Ef[base + np.clip(cnt - 1, 0, ne - 1)], -np.inf)
+    above = np.where(cnt < ne, Ef[base + np.clip(cnt, 0, ne - 1)], np.inf)
     return cnt, below, above
 
 
@@ -785,13 +834,9 @@ def _theta0_of_exponent_array(nu, theta1):
         nu_t, absq = fn[todo], np.abs(f1[todo])
         k = np.floor(nu_t).astype(np.int64)
         lo, hi = _band_edges(absq, k)
-        res = np.empty(todo.size)
         # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
         octave = np.floor(np.log2(np.maximum(absq, 1e-300))).clip(-4, None).astype(np.int64)
-        for sel in _groups(k * 4096 + octave):
-            R = _shifted_rows(float(hi[sel].max()), float(absq[sel].max()))
-            res[sel] = _band_eigen(nu_t[sel], absq[sel] ** 2, k[sel], lo[sel], hi[sel], R)
-        out[todo] = res
+        out[todo] = _by_groups(_band_eigen, _band_eigen_guess, nu_t, absq, k, lo, hi, octave)
     return out.reshape(shape)
 
 
