@@ -355,7 +355,12 @@ def _exponent_by_trace(f0, f1, cnt, below, above):
     :func:`exponent`)."""
     import numpy as np
 
-    y = trace_monodromy(f0, f1) / 2.0
+    _check_arrays(f0, f1)
+    N0 = _trace_depth(f0, f1)
+    # (2 y) / 2: the rounding of trace_monodromy / 2 (overflow to inf included)
+    y = 2.0 * _trace_half(f0, f1, N0) / 2.0
+    B = np.where(np.isfinite(below), below, f0)
+    A = np.where(np.isfinite(above), above, f0)
     band = cnt % 2 == 1
     k = np.where(band, (cnt - 1) // 2, cnt // 2)
     # edge e and its theta0-value E: in band k the lower edge (e = k) when
@@ -365,9 +370,18 @@ def _exponent_by_trace(f0, f1, cnt, below, above):
     lower_half = sk * y >= 0
     e = np.where(band, np.where(lower_half, k, k + 1), k)
     near_below = np.abs(f0 - below) <= np.abs(above - f0)
-    E = np.where(band, np.where(lower_half, below, above), np.where(near_below, below, above))
-    E = np.where(np.isfinite(E), E, f0)  # below a_0 with no edge below: any finite value
-    yE = trace_monodromy(E, f1) / 2.0
+    at_below = np.where(band, lower_half, near_below)
+    # below a_0 with no edge below: any finite value (B, A are f0 there)
+    E = np.where(at_below, B, A)
+    _check_arrays(E, f1)
+    NE = _trace_depth(E, f1)
+    # the recurrence is per point: where E is theta0 itself (a point on an
+    # edge) at the same depth, y(E) is y; the others are computed
+    same = E == f0 if NE == N0 else np.zeros(f0.shape, dtype=bool)
+    yE = y.copy()
+    oth = np.nonzero(~same)[0]
+    if oth.size:
+        yE[oth] = 2.0 * _trace_half(E[oth], f1[oth], NE) / 2.0
     se = np.where(e % 2 == 0, 1.0, -1.0)
     with np.errstate(invalid="ignore", over="ignore"):
         d = se * (yE - y)
@@ -940,10 +954,25 @@ def trace_monodromy(theta0, theta1):
     x0, x1 = _check_arrays(theta0, theta1)
     shape = x0.shape
     f0, f1 = x0.ravel().astype(float), x1.ravel().astype(float)
+    return (2.0 * _trace_half(f0, f1, _trace_depth(f0, f1))).reshape(shape)
+
+
+def _trace_depth(f0, f1):
+    """The first depth N0 of :func:`trace_monodromy` for flat arrays theta0, theta1."""
+    import numpy as np
+
+    return int(2 * math.ceil(math.sqrt(float(np.max(np.abs(f0)) + 2 * np.max(np.abs(f1)))))) + 24
+
+
+def _trace_half(f0, f1, N0):
+    """cos(pi lam) of :func:`trace_monodromy` for flat float arrays at depths
+    N0, 2 N0, 4 N0, 8 N0 (each point on its own: the same bits for any batch
+    with the same N0)."""
+    import numpy as np
+
     # shift s per point (vectorised form of _hill_shift)
     r = np.sqrt(np.maximum(f0, 0.0))
     s = np.where(f0 <= 0.25, np.where(f0 > -1.0, 1, 0), np.where(np.rint(r) % 2 == 0, 1, 0))
-    N0 = int(2 * math.ceil(math.sqrt(float(np.max(np.abs(f0)) + 2 * np.max(np.abs(f1)))))) + 24
     checkpoints = {N0 * 2 ** j: j for j in range(4)}
     one = np.ones_like(f0)
 
@@ -977,7 +1006,7 @@ def trace_monodromy(theta0, theta1):
         cr = np.where(f0 >= 0, np.cos(np.pi * r), np.cosh(np.pi * np.sqrt(np.maximum(-f0, 0.0))))
         cs = np.where(s == 0, 1.0, -1.0)
         y = cs + delta * (cr - cs)
-    return (2.0 * y).reshape(shape)
+    return y
 
 
 # ---------------------------------------------------------------------------
