@@ -185,9 +185,19 @@ def _by_groups(solve, guess, p, absq, k, lo, hi, octave):
     import numpy as np
 
     order, cuts = _group_order(k * 4096 + octave)
-    P, A, K, LO, HI = p[order], absq[order], k[order], lo[order], hi[order]
+    res = _solve_groups(solve, guess, p[order], absq[order], k[order], lo[order], hi[order], cuts)
+    out = np.empty(p.size)
+    out[order] = res
+    return out
+
+
+def _solve_groups(solve, guess, P, A, K, LO, HI, cuts):
+    """:func:`_by_groups` for points already sorted by group (group g is the
+    slice cuts[g]:cuts[g + 1]); results in that order."""
+    import numpy as np
+
     Q2 = A * A
-    res = np.empty(p.size)
+    res = np.empty(P.size)
     lib = _c_band()
     if lib is not None:
         X0 = guess(P, K, LO, HI)
@@ -200,9 +210,7 @@ def _by_groups(solve, guess, p, absq, k, lo, hi, octave):
                                 int(R) + extra, maxit)
         else:
             res[sl] = solve(P[sl], Q2[sl], K[sl], LO[sl], HI[sl], R)
-    out = np.empty(p.size)
-    out[order] = res
-    return out
+    return res
 
 
 def _bands_fast(f0, f1):
@@ -272,14 +280,38 @@ def _band_nu_guess(th0, k, lo, hi):
     import numpy as np
 
     kf = k.astype(float)
-    span = np.maximum(hi - lo, 1e-300)
+    span = hi - lo
+    np.maximum(span, 1e-300, out=span)
     # guess: the trace cos(pi lam) taken as linear in theta0 across the band
     # and, for a band as wide as at q = 0, sqrt(theta0) with [lo, hi] mapped onto [k^2, (k+1)^2]
-    w = np.clip((th0 - lo) / span, 0.0, 1.0)
-    wide = np.clip(span / (2.0 * kf + 1.0), 0.0, 1.0) ** 2
-    lam = (1.0 - wide) * (kf + np.arccos(1.0 - 2.0 * w) / np.pi) \
-        + wide * np.sqrt(kf * kf + w * (2.0 * kf + 1.0))
-    return np.clip(lam, kf + 1e-9, kf + 1.0 - 1e-9)
+    # (in place, the operations of lam = (1 - wide) (kf + arccos(1 - 2 w)/pi)
+    # + wide sqrt(kf^2 + w (2 kf + 1)), w = clip((th0 - lo)/span), wide = clip(span/(2 kf + 1))^2)
+    w = th0 - lo
+    w /= span
+    np.clip(w, 0.0, 1.0, out=w)
+    k21 = 2.0 * kf
+    k21 += 1.0
+    wide = span
+    wide /= k21
+    np.clip(wide, 0.0, 1.0, out=wide)
+    np.multiply(wide, wide, out=wide)
+    t = 2.0 * w
+    np.subtract(1.0, t, out=t)
+    a = np.arccos(t)
+    a /= np.pi
+    a += kf
+    t = 1.0 - wide
+    t *= a
+    np.multiply(w, k21, out=w)
+    kf2 = kf * kf
+    kf2 += w
+    a = np.sqrt(kf2)
+    a *= wide
+    t += a
+    lo_c = kf + 1e-9
+    hi_c = kf + 1.0
+    hi_c -= 1e-9
+    return np.clip(t, lo_c, hi_c, out=t)
 
 
 def _band_nu_chunk(th0, q2, k, lo, hi, R):
@@ -490,16 +522,36 @@ def _band_eigen_guess(nu, k, lo, hi):
     """The first x of :func:`_band_eigen` (NumPy, for both paths)."""
     import numpy as np
 
-    span = np.maximum(hi - lo, 0.0)
+    span = hi - lo
+    np.maximum(span, 0.0, out=span)
     kk = k.astype(float)
     # guess: the trace cos(pi nu) taken as linear in theta0 across the band
     # (from +-1 at lo to -+1 at hi; exact for a thin band)
     # and, for a band as wide as at q = 0, the q = 0 value nu^2 mapped onto it
-    wide = np.clip(span / (2.0 * kk + 1.0), 0.0, 1.0) ** 2
-    w = (1.0 - wide) * (0.5 - 0.5 * np.cos(np.pi * (nu - kk))) \
-        + wide * np.clip((nu * nu - kk * kk) / (2.0 * kk + 1.0), 0.0, 1.0)
-    x = lo + span * w
-    return np.clip(x, lo, hi)
+    # (in place, the operations of w = (1 - wide) (0.5 - 0.5 cos(pi (nu - k)))
+    # + wide clip((nu^2 - k^2)/(2k + 1)), wide = clip(span/(2k + 1))^2, x = lo + span w)
+    k21 = 2.0 * kk
+    k21 += 1.0
+    wide = span / k21
+    np.clip(wide, 0.0, 1.0, out=wide)
+    np.multiply(wide, wide, out=wide)
+    c = nu - kk
+    c *= np.pi
+    c = np.cos(c)
+    c *= 0.5
+    np.subtract(0.5, c, out=c)
+    w = 1.0 - wide
+    w *= c
+    v = nu * nu
+    np.multiply(kk, kk, out=kk)
+    v -= kk
+    v /= k21
+    np.clip(v, 0.0, 1.0, out=v)
+    v *= wide
+    w += v
+    w *= span
+    w += lo
+    return np.clip(w, lo, hi, out=w)
 
 
 def _band_eigen_chunk(nu, q2, k, lo, hi, R):
@@ -823,7 +875,7 @@ def _theta0_of_exponent_array(nu, theta1):
     n_arr, t_arr = _real_arrays(nu, theta1, ("nu", "theta1"))
     n_arr = np.abs(n_arr)
     shape = n_arr.shape
-    fn, f1 = n_arr.ravel().copy(), t_arr.ravel().copy()
+    fn, f1 = n_arr.ravel(), t_arr.ravel()   # read only
     out = np.empty(fn.shape)
     if fn.size == 0:
         return out.reshape(shape)
@@ -845,12 +897,16 @@ def _theta0_of_exponent_array(nu, theta1):
         out[ii] = _sorted_edges_at(np.abs(q_i), idx)
     todo = np.nonzero(~zero_q & ~is_int)[0]
     if todo.size:
-        nu_t, absq = fn[todo], np.abs(f1[todo])
-        k = np.floor(nu_t).astype(np.int64)
-        lo, hi = _band_edges(absq, k)
-        # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
+        absq = np.abs(f1[todo])
+        k = np.floor(fn[todo]).astype(np.int64)
+        # one truncation per band index and octave of |q| (rows grow like sqrt|q|);
+        # the points sorted by group once (the band edges do not depend on the order)
         octave = np.floor(np.log2(np.maximum(absq, 1e-300))).clip(-4, None).astype(np.int64)
-        out[todo] = _by_groups(_band_eigen, _band_eigen_guess, nu_t, absq, k, lo, hi, octave)
+        order, cuts = _group_order(k * 4096 + octave)
+        at = todo[order]
+        A, K = absq[order], k[order]
+        LO, HI = _band_edges(A, K)
+        out[at] = _solve_groups(_band_eigen, _band_eigen_guess, fn[at], A, K, LO, HI, cuts)
     return out.reshape(shape)
 
 
