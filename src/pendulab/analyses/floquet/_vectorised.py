@@ -123,28 +123,30 @@ def exponent(theta0, theta1):
 
     x0, x1 = _check_arrays(theta0, theta1)
     shape = x0.shape
-    f0, f1 = x0.ravel().astype(float), x1.ravel().astype(float)
+    f0, f1 = x0.ravel().astype(float, copy=False), x1.ravel().astype(float, copy=False)
     out = np.zeros(f0.shape, dtype=complex)
     if f0.size == 0:
         return out.reshape(shape)
     cnt, below, above = _bands_fast(f0, f1)
-    band = cnt % 2 == 1
+    band = (cnt & 1) == 1
     # theta1 = 0: lam = sqrt(theta0) exactly
     zero = f1 == 0
-    out[zero] = np.sqrt(f0[zero] + 0j)
+    if zero.any():
+        out[zero] = np.sqrt(f0[zero] + 0j)
     # inside a band: lam real, the root in (k, k+1) of det(J(lam) - theta0)
-    inb = np.nonzero(band & ~zero & np.isfinite(below) & np.isfinite(above))[0]
+    in_band = band & ~zero & np.isfinite(below) & np.isfinite(above)
+    inb = np.nonzero(in_band)[0]
     if inb.size:
-        k = (cnt[inb] - 1) // 2
+        k = (cnt[inb] - 1) >> 1             # (cnt - 1) // 2, cnt odd
         absq = np.abs(f1[inb])
-        t0, lo, hi = f0[inb], below[inb], above[inb]
-        # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
+        # one truncation per band index and octave of |q| (rows grow like sqrt|q|);
+        # the points sorted by group once
         octave = np.floor(np.log2(absq)).clip(-4, None).astype(np.int64)
-        out[inb] = _by_groups(_band_nu, _band_nu_guess, t0, absq, k, lo, hi, octave)
-    rest = np.ones(f0.shape, dtype=bool)
-    rest[inb] = False
-    rest &= ~zero
-    ri = np.nonzero(rest)[0]
+        order, cuts = _group_order(k * 4096 + octave)
+        at = inb[order]
+        out[at] = _solve_groups(_band_nu, _band_nu_guess, f0[at], absq[order], k[order],
+                                below[at], above[at], cuts)
+    ri = np.nonzero(~in_band & ~zero)[0]
     if ri.size:
         out[ri] = _exponent_by_trace(f0[ri], f1[ri], cnt[ri], below[ri], above[ri])
     return out.reshape(shape)
@@ -218,7 +220,7 @@ def _bands_fast(f0, f1):
     there are many distinct |q|; LAPACK one |q| at a time otherwise."""
     import numpy as np
 
-    qs, inv = np.unique(np.abs(f1), return_inverse=True)
+    qs, inv = _unique_inverse(np.abs(f1))
     if qs.size <= 16:
         return _bands_double(f0, f1)
     # far enough for the edge above the largest theta0 (successive edges lie
@@ -938,11 +940,25 @@ def _sorted_edges_at(absq, idx):
     return vals
 
 
+def _unique_inverse(a):
+    """np.unique(a, return_inverse=True) for a flat float array without nan: the
+    distinct values by hashing, sorted, and each point's index by bisection."""
+    import numpy as np
+
+    if a.size < 4096:
+        return np.unique(a, return_inverse=True)
+    try:
+        qs = np.sort(np.unique(a, sorted=False))
+    except TypeError:       # NumPy < 2.3
+        return np.unique(a, return_inverse=True)
+    return qs, np.searchsorted(qs, a)
+
+
 def _band_edges(absq, k):
     """Edges (e_{2k}, e_{2k+1}) of stable band k at each |q| (arrays of one shape)."""
     import numpy as np
 
-    qs, inv = np.unique(absq, return_inverse=True)
+    qs, inv = _unique_inverse(absq)
     kq = np.zeros(qs.size, dtype=np.int64)
     np.maximum.at(kq, inv, k)
     # every edge up to e_{2 kq + 1} for each distinct |q|: one table, two look-ups
