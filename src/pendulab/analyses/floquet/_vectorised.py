@@ -693,6 +693,37 @@ void pendulab_nu_rows(double lam, double e2, double t0, double n0, long L,
     *cnt_out = cnt; *sm_out = sm;
 }
 
+/* Newton steps on det(T - x) for the M columns of the symmetric tridiagonals
+   d (n x M, row-major), e2 ((n-1) x M, squared off-diagonals), x (M) in place:
+   the operations of _newton_eigen, column by column (a column stops where the
+   NumPy loop would only subtract zero steps from it). */
+void pendulab_newton_eigen(long n, long M, const double *d, const double *e2, double *x,
+                           long iters)
+{
+    const double U2 = 2.0 * 0x1p-53;
+    for (long c = 0; c < M; c++) {
+        double xc = x[c];
+        for (long it = 0; it < iters; it++) {
+            double u = d[c] - xc;
+            int hit = u == 0.0;
+            double du = -1.0;
+            double s = -1.0 / u;
+            for (long i = 1; i < n; i++) {
+                double r = e2[(i - 1) * M + c] / u;
+                du = -1.0 + r * du / u;
+                u = d[i * M + c] - xc - r;
+                hit |= u == 0.0;
+                s = s + du / u;
+            }
+            double step = 1.0 / s;
+            if (!(isfinite(step) && !hit)) step = 0.0;
+            xc = xc - step;
+            if (!(fabs(step) > U2 * npmax1(fabs(xc)))) break;
+        }
+        x[c] = xc;
+    }
+}
+
 /* kind 0: the k-th eigenvalue x of J(nu) in (lo, hi) (_band_eigen_chunk);
    kind 1: the exponent lam in (k, k+1) with theta0 in band k (_band_nu_chunk).
    p: nu (kind 0) or theta0 (kind 1); x0: the guess; lo, hi: the band edges
@@ -836,6 +867,8 @@ def _bind(lib):
     PL = ctypes.POINTER(ctypes.c_long)
     lib.pendulab_band_newton.argtypes = [ctypes.c_int, L, PD, PD, PL, PD, PD, PD, D, L, L, PD]
     lib.pendulab_band_newton.restype = L
+    lib.pendulab_newton_eigen.argtypes = [L, L, PD, PD, PD, L]
+    lib.pendulab_newton_eigen.restype = None
     for fn in (lib.pendulab_eigen_rows, lib.pendulab_nu_rows):
         fn.argtypes = [D, D, D, D, L, PD, PD, PL, PD]
         fn.restype = None
@@ -1173,10 +1206,21 @@ def _count_eta(q):
 def _newton_eigen(d, e2, x, iters=8):
     """Newton steps x <- x - f/f' on f = det(T - x) for each column (through the
     LDL^T pivots u_i: f'/f = sum u_i'/u_i); a zero pivot means x is an
-    eigenvalue of the float matrix and stops that column."""
+    eigenvalue of the float matrix and stops that column.  In the C kernel
+    (:data:`_BAND_C`, the same operations) when it builds."""
     import numpy as np
 
     x = np.array(x, dtype=float)
+    lib = _c_band()
+    if lib is not None and x.ndim == 1 and d.ndim == 2 and d.shape[1] == x.size and x.size:
+        import ctypes
+
+        PD = ctypes.POINTER(ctypes.c_double)
+        dc = np.ascontiguousarray(d, dtype=np.float64)
+        ec = np.ascontiguousarray(e2, dtype=np.float64)
+        lib.pendulab_newton_eigen(dc.shape[0], x.size, dc.ctypes.data_as(PD),
+                                  ec.ctypes.data_as(PD), x.ctypes.data_as(PD), iters)
+        return x
     live = np.ones(x.shape, dtype=bool)
     for _ in range(iters):
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
