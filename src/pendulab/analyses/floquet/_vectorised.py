@@ -152,14 +152,6 @@ def exponent(theta0, theta1):
     return out.reshape(shape)
 
 
-def _groups(key):
-    """Index arrays of the points sharing each value of ``key`` (one sort)."""
-    import numpy as np
-
-    order, cuts = _group_order(key)
-    return np.split(order, cuts[1:-1])
-
-
 def _group_order(key):
     """(order, cuts): the stable sort of the integer array ``key`` and the
     boundaries [0, ..., key.size] of its runs of equal values.  A key spanning
@@ -178,24 +170,12 @@ def _group_order(key):
     return order, cuts
 
 
-def _by_groups(solve, guess, p, absq, k, lo, hi, octave):
-    """``solve`` (:func:`_band_eigen` or :func:`_band_nu`) on all points, one
-    truncation R per group of equal (k, octave) (R from the group's largest hi
-    and |q|): the points are sorted by group once, each group is a contiguous
-    slice; with the C kernel the guess (``guess``, elementwise) is taken for all
-    points at once.  Returns the results in the order of the inputs."""
-    import numpy as np
-
-    order, cuts = _group_order(k * 4096 + octave)
-    res = _solve_groups(solve, guess, p[order], absq[order], k[order], lo[order], hi[order], cuts)
-    out = np.empty(p.size)
-    out[order] = res
-    return out
-
-
 def _solve_groups(solve, guess, P, A, K, LO, HI, cuts):
-    """:func:`_by_groups` for points already sorted by group (group g is the
-    slice cuts[g]:cuts[g + 1]); results in that order."""
+    """``solve`` (:func:`_band_eigen` or :func:`_band_nu`) on points sorted by
+    group of equal (k, octave of |q|) (group g is the slice cuts[g]:cuts[g + 1],
+    see :func:`_group_order`), one truncation R per group from its largest hi
+    and |q|; with the C kernel the guess (``guess``, elementwise) is taken for
+    all points at once.  Results in the order of the points."""
     import numpy as np
 
     Q2 = A * A
@@ -914,13 +894,19 @@ def _theta0_of_exponent_array(nu, theta1):
     out = np.empty(fn.shape)
     if fn.size == 0:
         return out.reshape(shape)
-    size = float(np.max(fn * fn + 2.0 * np.abs(f1)))
+    t = np.abs(f1)
+    t *= 2.0
+    t += fn * fn
+    size = float(np.max(t))
     if size > SIZE_LIMIT:
         raise InputError(f"|nu^2| + 2|theta1| = {size:.3g} is too large for the "
                          f"vectorised functions (limit {SIZE_LIMIT:g})")
     zero_q = f1 == 0
-    is_int = (fn == np.floor(fn)) & ~zero_q
-    out[zero_q] = fn[zero_q] ** 2
+    is_int = fn == np.floor(fn)
+    is_int &= ~zero_q
+    zi = np.flatnonzero(zero_q)
+    if zi.size:
+        out[zi] = fn[zi] ** 2
     if np.any(is_int):
         # a_n(q), q = -theta1: with the values at |q| sorted, e_0 < e_1 < ... is
         # a_0 < b_1 < a_1 < b_2 < ... (DLMF 28.2.22); a_{2j}(q) = a_{2j}(|q|) and
@@ -997,8 +983,11 @@ def _band_edges(absq, k):
     # every edge up to e_{2 kq + 1} for each distinct |q|: one table, two look-ups
     width = 2 * int(kq.max()) + 2
     table = _sorted_edges_at(np.repeat(qs, width), np.tile(np.arange(width), qs.size))
-    table = table.reshape(qs.size, width)
-    return table[inv, 2 * k], table[inv, 2 * k + 1]
+    at = inv * width
+    at += 2 * k
+    lo = table[at]
+    at += 1
+    return lo, table[at]
 
 
 def is_stable(theta0, theta1, rtol=1e-12):
