@@ -123,45 +123,76 @@ def exponent(theta0, theta1):
 
     x0, x1 = _check_arrays(theta0, theta1)
     shape = x0.shape
-    f0, f1 = x0.ravel().astype(float), x1.ravel().astype(float)
+    f0, f1 = x0.ravel().astype(float, copy=False), x1.ravel().astype(float, copy=False)
     out = np.zeros(f0.shape, dtype=complex)
     if f0.size == 0:
         return out.reshape(shape)
     cnt, below, above = _bands_fast(f0, f1)
-    band = cnt % 2 == 1
+    band = (cnt & 1) == 1
     # theta1 = 0: lam = sqrt(theta0) exactly
     zero = f1 == 0
-    out[zero] = np.sqrt(f0[zero] + 0j)
+    if zero.any():
+        out[zero] = np.sqrt(f0[zero] + 0j)
     # inside a band: lam real, the root in (k, k+1) of det(J(lam) - theta0)
-    inb = np.nonzero(band & ~zero & np.isfinite(below) & np.isfinite(above))[0]
+    in_band = band & ~zero & np.isfinite(below) & np.isfinite(above)
+    inb = np.nonzero(in_band)[0]
     if inb.size:
-        k = (cnt[inb] - 1) // 2
+        k = (cnt[inb] - 1) >> 1             # (cnt - 1) // 2, cnt odd
         absq = np.abs(f1[inb])
-        t0, lo, hi = f0[inb], below[inb], above[inb]
-        lam = np.empty(inb.size)
-        # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
+        # one truncation per band index and octave of |q| (rows grow like sqrt|q|);
+        # the points sorted by group once
         octave = np.floor(np.log2(absq)).clip(-4, None).astype(np.int64)
-        for sel in _groups(k * 4096 + octave):
-            R = _shifted_rows(float(hi[sel].max()), float(absq[sel].max()))
-            lam[sel] = _band_nu(t0[sel], absq[sel] ** 2, k[sel], lo[sel], hi[sel], R)
-        out[inb] = lam
-    rest = np.ones(f0.shape, dtype=bool)
-    rest[inb] = False
-    rest &= ~zero
-    ri = np.nonzero(rest)[0]
+        order, cuts = _group_order(k * 4096 + octave)
+        at = inb[order]
+        out[at] = _solve_groups(_band_nu, _band_nu_guess, f0[at], absq[order], k[order],
+                                below[at], above[at], cuts)
+    ri = np.nonzero(~in_band & ~zero)[0]
     if ri.size:
         out[ri] = _exponent_by_trace(f0[ri], f1[ri], cnt[ri], below[ri], above[ri])
     return out.reshape(shape)
 
 
-def _groups(key):
-    """Index arrays of the points sharing each value of ``key`` (one sort)."""
+def _group_order(key):
+    """(order, cuts): the stable sort of the integer array ``key`` and the
+    boundaries [0, ..., key.size] of its runs of equal values.  A key spanning
+    fewer than 2^15 values is sorted as int16 (radix sort, the same order)."""
     import numpy as np
 
-    order = np.argsort(key, kind="stable")
+    if key.size == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int64)
+    kmin = int(key.min())
+    if int(key.max()) - kmin < 32767:
+        order = np.argsort((key - kmin).astype(np.int16), kind="stable")
+    else:
+        order = np.argsort(key, kind="stable")
     ks = key[order]
-    cuts = np.nonzero(np.diff(ks))[0] + 1
-    return np.split(order, cuts)
+    cuts = np.concatenate(([0], np.nonzero(ks[1:] != ks[:-1])[0] + 1, [key.size]))
+    return order, cuts
+
+
+def _solve_groups(solve, guess, P, A, K, LO, HI, cuts):
+    """``solve`` (:func:`_band_eigen` or :func:`_band_nu`) on points sorted by
+    group of equal (k, octave of |q|) (group g is the slice cuts[g]:cuts[g + 1],
+    see :func:`_group_order`), one truncation R per group from its largest hi
+    and |q|; with the C kernel the guess (``guess``, elementwise) is taken for
+    all points at once.  Results in the order of the points."""
+    import numpy as np
+
+    Q2 = A * A
+    res = np.empty(P.size)
+    lib = _c_band()
+    if lib is not None:
+        X0 = guess(P, K, LO, HI)
+        kind, extra, maxit = (0, 2, 120) if solve is _band_eigen else (1, 4, 200)
+    for s0, s1 in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
+        sl = slice(s0, s1)
+        R = _shifted_rows(float(HI[sl].max()), float(A[sl].max()))
+        if lib is not None:
+            res[sl] = _c_newton(lib, kind, P[sl], Q2[sl], K[sl], LO[sl], HI[sl], X0[sl], R,
+                                int(R) + extra, maxit)
+        else:
+            res[sl] = solve(P[sl], Q2[sl], K[sl], LO[sl], HI[sl], R)
+    return res
 
 
 def _bands_fast(f0, f1):
@@ -169,7 +200,7 @@ def _bands_fast(f0, f1):
     there are many distinct |q|; LAPACK one |q| at a time otherwise."""
     import numpy as np
 
-    qs, inv = np.unique(np.abs(f1), return_inverse=True)
+    qs, inv = _unique_inverse(np.abs(f1))
     if qs.size <= 16:
         return _bands_double(f0, f1)
     # far enough for the edge above the largest theta0 (successive edges lie
@@ -181,14 +212,22 @@ def _bands_fast(f0, f1):
         E, _ = _certify_edges(qs, reach)
     except PrecisionError:
         return _bands_double(f0, f1)
-    Ei = E[inv]
-    cnt = np.sum(Ei < f0[:, None], axis=1)
     ne = E.shape[1]
-    rows = np.arange(f0.size)
-    below = np.where(cnt > 0, Ei[rows, np.clip(cnt - 1, 0, max(ne - 1, 0))], -np.inf) if ne else \
-        np.full(f0.shape, -np.inf)
-    above = np.where(cnt < ne, Ei[rows, np.clip(cnt, 0, max(ne - 1, 0))], np.inf) if ne else \
-        np.full(f0.shape, np.inf)
+    # the count of edges below theta0, one column (ascending) at a time; the
+    # rows are sorted, so no later column counts once one does not
+    cnt = np.zeros(f0.size, dtype=np.int64)
+    ET = np.ascontiguousarray(E.T)
+    for j in range(ne):
+        c = ET[j][inv] < f0
+        if not c.any():
+            break
+        cnt += c
+    if not ne:
+        return cnt, np.full(f0.shape, -np.inf), np.full(f0.shape, np.inf)
+    Ef = E.ravel()
+    base = inv * ne
+    below = np.where(cnt > 0, Ef[base + np.clip(cnt - 1, 0, ne - 1)], -np.inf)
+    above = np.where(cnt < ne, Ef[base + np.clip(cnt, 0, ne - 1)], np.inf)
     return cnt, below, above
 
 
@@ -223,14 +262,38 @@ def _band_nu_guess(th0, k, lo, hi):
     import numpy as np
 
     kf = k.astype(float)
-    span = np.maximum(hi - lo, 1e-300)
+    span = hi - lo
+    np.maximum(span, 1e-300, out=span)
     # guess: the trace cos(pi lam) taken as linear in theta0 across the band
     # and, for a band as wide as at q = 0, sqrt(theta0) with [lo, hi] mapped onto [k^2, (k+1)^2]
-    w = np.clip((th0 - lo) / span, 0.0, 1.0)
-    wide = np.clip(span / (2.0 * kf + 1.0), 0.0, 1.0) ** 2
-    lam = (1.0 - wide) * (kf + np.arccos(1.0 - 2.0 * w) / np.pi) \
-        + wide * np.sqrt(kf * kf + w * (2.0 * kf + 1.0))
-    return np.clip(lam, kf + 1e-9, kf + 1.0 - 1e-9)
+    # (in place, the operations of lam = (1 - wide) (kf + arccos(1 - 2 w)/pi)
+    # + wide sqrt(kf^2 + w (2 kf + 1)), w = clip((th0 - lo)/span), wide = clip(span/(2 kf + 1))^2)
+    w = th0 - lo
+    w /= span
+    np.clip(w, 0.0, 1.0, out=w)
+    k21 = 2.0 * kf
+    k21 += 1.0
+    wide = span
+    wide /= k21
+    np.clip(wide, 0.0, 1.0, out=wide)
+    np.multiply(wide, wide, out=wide)
+    t = 2.0 * w
+    np.subtract(1.0, t, out=t)
+    a = np.arccos(t)
+    a /= np.pi
+    a += kf
+    t = 1.0 - wide
+    t *= a
+    np.multiply(w, k21, out=w)
+    kf2 = kf * kf
+    kf2 += w
+    a = np.sqrt(kf2)
+    a *= wide
+    t += a
+    lo_c = kf + 1e-9
+    hi_c = kf + 1.0
+    hi_c -= 1e-9
+    return np.clip(t, lo_c, hi_c, out=t)
 
 
 def _band_nu_chunk(th0, q2, k, lo, hi, R):
@@ -306,7 +369,12 @@ def _exponent_by_trace(f0, f1, cnt, below, above):
     :func:`exponent`)."""
     import numpy as np
 
-    y = trace_monodromy(f0, f1) / 2.0
+    _check_arrays(f0, f1)
+    N0 = _trace_depth(f0, f1)
+    # (2 y) / 2: the rounding of trace_monodromy / 2 (overflow to inf included)
+    y = 2.0 * _trace_half(f0, f1, N0) / 2.0
+    B = np.where(np.isfinite(below), below, f0)
+    A = np.where(np.isfinite(above), above, f0)
     band = cnt % 2 == 1
     k = np.where(band, (cnt - 1) // 2, cnt // 2)
     # edge e and its theta0-value E: in band k the lower edge (e = k) when
@@ -316,9 +384,18 @@ def _exponent_by_trace(f0, f1, cnt, below, above):
     lower_half = sk * y >= 0
     e = np.where(band, np.where(lower_half, k, k + 1), k)
     near_below = np.abs(f0 - below) <= np.abs(above - f0)
-    E = np.where(band, np.where(lower_half, below, above), np.where(near_below, below, above))
-    E = np.where(np.isfinite(E), E, f0)  # below a_0 with no edge below: any finite value
-    yE = trace_monodromy(E, f1) / 2.0
+    at_below = np.where(band, lower_half, near_below)
+    # below a_0 with no edge below: any finite value (B, A are f0 there)
+    E = np.where(at_below, B, A)
+    _check_arrays(E, f1)
+    NE = _trace_depth(E, f1)
+    # the recurrence is per point: where E is theta0 itself (a point on an
+    # edge) at the same depth, y(E) is y; the others are computed
+    same = E == f0 if NE == N0 else np.zeros(f0.shape, dtype=bool)
+    yE = y.copy()
+    oth = np.nonzero(~same)[0]
+    if oth.size:
+        yE[oth] = 2.0 * _trace_half(E[oth], f1[oth], NE) / 2.0
     se = np.where(e % 2 == 0, 1.0, -1.0)
     with np.errstate(invalid="ignore", over="ignore"):
         d = se * (yE - y)
@@ -427,16 +504,36 @@ def _band_eigen_guess(nu, k, lo, hi):
     """The first x of :func:`_band_eigen` (NumPy, for both paths)."""
     import numpy as np
 
-    span = np.maximum(hi - lo, 0.0)
+    span = hi - lo
+    np.maximum(span, 0.0, out=span)
     kk = k.astype(float)
     # guess: the trace cos(pi nu) taken as linear in theta0 across the band
     # (from +-1 at lo to -+1 at hi; exact for a thin band)
     # and, for a band as wide as at q = 0, the q = 0 value nu^2 mapped onto it
-    wide = np.clip(span / (2.0 * kk + 1.0), 0.0, 1.0) ** 2
-    w = (1.0 - wide) * (0.5 - 0.5 * np.cos(np.pi * (nu - kk))) \
-        + wide * np.clip((nu * nu - kk * kk) / (2.0 * kk + 1.0), 0.0, 1.0)
-    x = lo + span * w
-    return np.clip(x, lo, hi)
+    # (in place, the operations of w = (1 - wide) (0.5 - 0.5 cos(pi (nu - k)))
+    # + wide clip((nu^2 - k^2)/(2k + 1)), wide = clip(span/(2k + 1))^2, x = lo + span w)
+    k21 = 2.0 * kk
+    k21 += 1.0
+    wide = span / k21
+    np.clip(wide, 0.0, 1.0, out=wide)
+    np.multiply(wide, wide, out=wide)
+    c = nu - kk
+    c *= np.pi
+    c = np.cos(c)
+    c *= 0.5
+    np.subtract(0.5, c, out=c)
+    w = 1.0 - wide
+    w *= c
+    v = nu * nu
+    np.multiply(kk, kk, out=kk)
+    v -= kk
+    v /= k21
+    np.clip(v, 0.0, 1.0, out=v)
+    v *= wide
+    w += v
+    w *= span
+    w += lo
+    return np.clip(w, lo, hi, out=w)
 
 
 def _band_eigen_chunk(nu, q2, k, lo, hi, R):
@@ -574,6 +671,37 @@ void pendulab_nu_rows(double lam, double e2, double t0, double n0, long L,
         u_out[i] = u; g_out[i] = g;
     }
     *cnt_out = cnt; *sm_out = sm;
+}
+
+/* Newton steps on det(T - x) for the M columns of the symmetric tridiagonals
+   d (n x M, row-major), e2 ((n-1) x M, squared off-diagonals), x (M) in place:
+   the operations of _newton_eigen, column by column (a column stops where the
+   NumPy loop would only subtract zero steps from it). */
+void pendulab_newton_eigen(long n, long M, const double *d, const double *e2, double *x,
+                           long iters)
+{
+    const double U2 = 2.0 * 0x1p-53;
+    for (long c = 0; c < M; c++) {
+        double xc = x[c];
+        for (long it = 0; it < iters; it++) {
+            double u = d[c] - xc;
+            int hit = u == 0.0;
+            double du = -1.0;
+            double s = -1.0 / u;
+            for (long i = 1; i < n; i++) {
+                double r = e2[(i - 1) * M + c] / u;
+                du = -1.0 + r * du / u;
+                u = d[i * M + c] - xc - r;
+                hit |= u == 0.0;
+                s = s + du / u;
+            }
+            double step = 1.0 / s;
+            if (!(isfinite(step) && !hit)) step = 0.0;
+            xc = xc - step;
+            if (!(fabs(step) > U2 * npmax1(fabs(xc)))) break;
+        }
+        x[c] = xc;
+    }
 }
 
 /* kind 0: the k-th eigenvalue x of J(nu) in (lo, hi) (_band_eigen_chunk);
@@ -719,6 +847,8 @@ def _bind(lib):
     PL = ctypes.POINTER(ctypes.c_long)
     lib.pendulab_band_newton.argtypes = [ctypes.c_int, L, PD, PD, PL, PD, PD, PD, D, L, L, PD]
     lib.pendulab_band_newton.restype = L
+    lib.pendulab_newton_eigen.argtypes = [L, L, PD, PD, PD, L]
+    lib.pendulab_newton_eigen.restype = None
     for fn in (lib.pendulab_eigen_rows, lib.pendulab_nu_rows):
         fn.argtypes = [D, D, D, D, L, PD, PD, PL, PD]
         fn.restype = None
@@ -760,17 +890,23 @@ def _theta0_of_exponent_array(nu, theta1):
     n_arr, t_arr = _real_arrays(nu, theta1, ("nu", "theta1"))
     n_arr = np.abs(n_arr)
     shape = n_arr.shape
-    fn, f1 = n_arr.ravel().copy(), t_arr.ravel().copy()
+    fn, f1 = n_arr.ravel(), t_arr.ravel()   # read only
     out = np.empty(fn.shape)
     if fn.size == 0:
         return out.reshape(shape)
-    size = float(np.max(fn * fn + 2.0 * np.abs(f1)))
+    t = np.abs(f1)
+    t *= 2.0
+    t += fn * fn
+    size = float(np.max(t))
     if size > SIZE_LIMIT:
         raise InputError(f"|nu^2| + 2|theta1| = {size:.3g} is too large for the "
                          f"vectorised functions (limit {SIZE_LIMIT:g})")
     zero_q = f1 == 0
-    is_int = (fn == np.floor(fn)) & ~zero_q
-    out[zero_q] = fn[zero_q] ** 2
+    is_int = fn == np.floor(fn)
+    is_int &= ~zero_q
+    zi = np.flatnonzero(zero_q)
+    if zi.size:
+        out[zi] = fn[zi] ** 2
     if np.any(is_int):
         # a_n(q), q = -theta1: with the values at |q| sorted, e_0 < e_1 < ... is
         # a_0 < b_1 < a_1 < b_2 < ... (DLMF 28.2.22); a_{2j}(q) = a_{2j}(|q|) and
@@ -782,16 +918,16 @@ def _theta0_of_exponent_array(nu, theta1):
         out[ii] = _sorted_edges_at(np.abs(q_i), idx)
     todo = np.nonzero(~zero_q & ~is_int)[0]
     if todo.size:
-        nu_t, absq = fn[todo], np.abs(f1[todo])
-        k = np.floor(nu_t).astype(np.int64)
-        lo, hi = _band_edges(absq, k)
-        res = np.empty(todo.size)
-        # one truncation per band index and octave of |q| (rows grow like sqrt|q|)
+        absq = np.abs(f1[todo])
+        k = np.floor(fn[todo]).astype(np.int64)
+        # one truncation per band index and octave of |q| (rows grow like sqrt|q|);
+        # the points sorted by group once (the band edges do not depend on the order)
         octave = np.floor(np.log2(np.maximum(absq, 1e-300))).clip(-4, None).astype(np.int64)
-        for sel in _groups(k * 4096 + octave):
-            R = _shifted_rows(float(hi[sel].max()), float(absq[sel].max()))
-            res[sel] = _band_eigen(nu_t[sel], absq[sel] ** 2, k[sel], lo[sel], hi[sel], R)
-        out[todo] = res
+        order, cuts = _group_order(k * 4096 + octave)
+        at = todo[order]
+        A, K = absq[order], k[order]
+        LO, HI = _band_edges(A, K)
+        out[at] = _solve_groups(_band_eigen, _band_eigen_guess, fn[at], A, K, LO, HI, cuts)
     return out.reshape(shape)
 
 
@@ -823,18 +959,35 @@ def _sorted_edges_at(absq, idx):
     return vals
 
 
+def _unique_inverse(a):
+    """np.unique(a, return_inverse=True) for a flat float array without nan: the
+    distinct values by hashing, sorted, and each point's index by bisection."""
+    import numpy as np
+
+    if a.size < 4096:
+        return np.unique(a, return_inverse=True)
+    try:
+        qs = np.sort(np.unique(a, sorted=False))
+    except TypeError:       # NumPy < 2.3
+        return np.unique(a, return_inverse=True)
+    return qs, np.searchsorted(qs, a)
+
+
 def _band_edges(absq, k):
     """Edges (e_{2k}, e_{2k+1}) of stable band k at each |q| (arrays of one shape)."""
     import numpy as np
 
-    qs, inv = np.unique(absq, return_inverse=True)
+    qs, inv = _unique_inverse(absq)
     kq = np.zeros(qs.size, dtype=np.int64)
     np.maximum.at(kq, inv, k)
     # every edge up to e_{2 kq + 1} for each distinct |q|: one table, two look-ups
     width = 2 * int(kq.max()) + 2
     table = _sorted_edges_at(np.repeat(qs, width), np.tile(np.arange(width), qs.size))
-    table = table.reshape(qs.size, width)
-    return table[inv, 2 * k], table[inv, 2 * k + 1]
+    at = inv * width
+    at += 2 * k
+    lo = table[at]
+    at += 1
+    return lo, table[at]
 
 
 def is_stable(theta0, theta1, rtol=1e-12):
@@ -895,10 +1048,25 @@ def trace_monodromy(theta0, theta1):
     x0, x1 = _check_arrays(theta0, theta1)
     shape = x0.shape
     f0, f1 = x0.ravel().astype(float), x1.ravel().astype(float)
+    return (2.0 * _trace_half(f0, f1, _trace_depth(f0, f1))).reshape(shape)
+
+
+def _trace_depth(f0, f1):
+    """The first depth N0 of :func:`trace_monodromy` for flat arrays theta0, theta1."""
+    import numpy as np
+
+    return int(2 * math.ceil(math.sqrt(float(np.max(np.abs(f0)) + 2 * np.max(np.abs(f1)))))) + 24
+
+
+def _trace_half(f0, f1, N0):
+    """cos(pi lam) of :func:`trace_monodromy` for flat float arrays at depths
+    N0, 2 N0, 4 N0, 8 N0 (each point on its own: the same bits for any batch
+    with the same N0)."""
+    import numpy as np
+
     # shift s per point (vectorised form of _hill_shift)
     r = np.sqrt(np.maximum(f0, 0.0))
     s = np.where(f0 <= 0.25, np.where(f0 > -1.0, 1, 0), np.where(np.rint(r) % 2 == 0, 1, 0))
-    N0 = int(2 * math.ceil(math.sqrt(float(np.max(np.abs(f0)) + 2 * np.max(np.abs(f1)))))) + 24
     checkpoints = {N0 * 2 ** j: j for j in range(4)}
     one = np.ones_like(f0)
 
@@ -932,7 +1100,7 @@ def trace_monodromy(theta0, theta1):
         cr = np.where(f0 >= 0, np.cos(np.pi * r), np.cosh(np.pi * np.sqrt(np.maximum(-f0, 0.0))))
         cs = np.where(s == 0, 1.0, -1.0)
         y = cs + delta * (cr - cs)
-    return (2.0 * y).reshape(shape)
+    return y
 
 
 # ---------------------------------------------------------------------------
@@ -1027,10 +1195,21 @@ def _count_eta(q):
 def _newton_eigen(d, e2, x, iters=8):
     """Newton steps x <- x - f/f' on f = det(T - x) for each column (through the
     LDL^T pivots u_i: f'/f = sum u_i'/u_i); a zero pivot means x is an
-    eigenvalue of the float matrix and stops that column."""
+    eigenvalue of the float matrix and stops that column.  In the C kernel
+    (:data:`_BAND_C`, the same operations) when it builds."""
     import numpy as np
 
     x = np.array(x, dtype=float)
+    lib = _c_band()
+    if lib is not None and x.ndim == 1 and d.ndim == 2 and d.shape[1] == x.size and x.size:
+        import ctypes
+
+        PD = ctypes.POINTER(ctypes.c_double)
+        dc = np.ascontiguousarray(d, dtype=np.float64)
+        ec = np.ascontiguousarray(e2, dtype=np.float64)
+        lib.pendulab_newton_eigen(dc.shape[0], x.size, dc.ctypes.data_as(PD),
+                                  ec.ctypes.data_as(PD), x.ctypes.data_as(PD), iters)
+        return x
     live = np.ones(x.shape, dtype=bool)
     for _ in range(iters):
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
