@@ -277,8 +277,19 @@ class Problems:
 
     def raise_any(self):
         """Raise one InputError listing every problem recorded, in order ("; " between)."""
-        if self.messages:
-            raise InputError("; ".join(self.messages))
+        raise_problems(self.messages)
+
+
+def raise_problems(problems, prefix=""):
+    """Raise one InputError listing ``problems`` ("; " between, after ``prefix``), or nothing.
+
+    Its ``problems`` attribute keeps them apart, so that scene validation reports each
+    under the product's key (:func:`pendulab.scene.validate_options`).
+    """
+    if problems:
+        err = InputError(prefix + "; ".join(problems))
+        err.problems = list(problems)
+        raise err
 
 
 def check(name, value, label=None):

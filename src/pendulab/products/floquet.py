@@ -129,10 +129,7 @@ def check_options(options):
         work = limits.work_problem("floquet", options)
         if work:
             problems.append(work)
-    if problems:
-        err = InputError("; ".join(problems))
-        err.problems = problems
-        raise err
+    limits.raise_problems(problems)
 
 
 def produce(ctx, options):

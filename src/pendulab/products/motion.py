@@ -88,10 +88,7 @@ def check_options(options):
     work = limits.work_problem("motion", options)
     if work:
         problems.append(work)
-    if problems:
-        err = InputError("; ".join(problems))
-        err.problems = problems
-        raise err
+    limits.raise_problems(problems)
 
 
 SYSTEMS = ("variable-length",)

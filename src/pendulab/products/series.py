@@ -60,10 +60,8 @@ def check_request(order, kinds, where="series"):
             _parse_kind(kind)
         except InputError as exc:
             problems.append(str(exc) if kind != "" else "kind '' is empty")
-    if problems:
-        err = InputError((f"{where}: " if where else "") + "; ".join(problems))
-        err.problems = problems
-        raise err
+    from pendulab.limits import raise_problems
+    raise_problems(problems, prefix=f"{where}: " if where else "")
 
 
 def check_options(options):

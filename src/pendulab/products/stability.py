@@ -82,10 +82,8 @@ def check_options(options):
         work = work_problem("stability", options)
         if work:
             problems.append(work)
-    if problems:
-        err = InputError("; ".join(problems))
-        err.problems = problems
-        raise err
+    from pendulab.limits import raise_problems
+    raise_problems(problems)
 
 
 def _inertia_ratio(system):
