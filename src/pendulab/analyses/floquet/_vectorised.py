@@ -243,17 +243,22 @@ def _band_nu(th0, q2, k, lo, hi, R, chunk=8192):
     theta0 - E, so rounding of det at the 1e-16 level gives ~1e-16/(lam - e).
     The loop runs in the C kernel :data:`_BAND_C` when it builds (the same bits),
     else in NumPy (:func:`_band_nu_chunk`)."""
-    import numpy as np
-
     lib = _c_band()
     if lib is not None:
         return _c_newton(lib, 1, th0, q2, k, lo, hi, _band_nu_guess(th0, k, lo, hi), R,
                          int(R) + 4, 200)
-    out = np.empty(th0.size)
+    return _in_chunks(_band_nu_chunk, th0, q2, k, lo, hi, R, chunk)
+
+
+def _in_chunks(chunk_fn, x, q2, k, lo, hi, R, chunk):
+    """The NumPy fallback of a band Newton, ``chunk_fn`` on slices of at most 16 MB of rows."""
+    import numpy as np
+
+    out = np.empty(x.size)
     chunk = max(16, min(chunk, int(2e6 // (R + 4))))   # (rows, chunk) at most 16 MB
-    for s in range(0, th0.size, chunk):
+    for s in range(0, x.size, chunk):
         sl = slice(s, s + chunk)
-        out[sl] = _band_nu_chunk(th0[sl], q2[sl], k[sl], lo[sl], hi[sl], R)
+        out[sl] = chunk_fn(x[sl], q2[sl], k[sl], lo[sl], hi[sl], R)
     return out
 
 
@@ -316,7 +321,6 @@ def _band_nu_chunk(th0, q2, k, lo, hi, R):
             break
         la = lam[idx]
         r = np.empty_like(la)
-        t = np.empty_like(la)
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             m = steps[0] + la
             u = m * m - t0
@@ -486,18 +490,11 @@ def _band_eigen(nu, q2, k, lo, hi, R, chunk=8192):
     the float matrix to a few ulps of max(|x|, |q|).  The loop runs in the C
     kernel :data:`_BAND_C` when it builds (the same bits), else in NumPy in
     chunks that stay in the cache (:func:`_band_eigen_chunk`)."""
-    import numpy as np
-
     lib = _c_band()
     if lib is not None:
         return _c_newton(lib, 0, nu, q2, k, lo, hi, _band_eigen_guess(nu, k, lo, hi), R,
                          int(R) + 2, 120)
-    out = np.empty(nu.size)
-    chunk = max(16, min(chunk, int(2e6 // (R + 4))))   # (rows, chunk) at most 16 MB
-    for s in range(0, nu.size, chunk):
-        sl = slice(s, s + chunk)
-        out[sl] = _band_eigen_chunk(nu[sl], q2[sl], k[sl], lo[sl], hi[sl], R)
-    return out
+    return _in_chunks(_band_eigen_chunk, nu, q2, k, lo, hi, R, chunk)
 
 
 def _band_eigen_guess(nu, k, lo, hi):
@@ -556,7 +553,6 @@ def _band_eigen_chunk(nu, q2, k, lo, hi, R):
             break
         xa = x[idx]
         r = np.empty_like(xa)
-        t = np.empty_like(xa)
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             u = D[0] - xa
             cnt = (u < 0).astype(np.int64)
@@ -1043,8 +1039,6 @@ def trace_monodromy(theta0, theta1):
     N0, 2 N0, 4 N0, 8 N0.  Accurate to about 1e-11 relative to
     max(1, |trace|) for moderate parameters; overflows to inf for very large q.
     """
-    import numpy as np
-
     x0, x1 = _check_arrays(theta0, theta1)
     shape = x0.shape
     f0, f1 = x0.ravel().astype(float), x1.ravel().astype(float)
