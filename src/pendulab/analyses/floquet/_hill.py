@@ -33,6 +33,33 @@ def _richardson_weight_digits(M):
     return best
 
 
+def continuants(g, steps, one, zero):
+    """The truncated Hill determinants K(-N..N), N = 1 .. steps, of the normalised rows.
+
+    Row n has diagonal 1 and off-diagonals g(n) (the symmetric continuant recurrence,
+    widening the window [L, R] by one on each side per step; the four continuants kept
+    are K(L..R), K(L+1..R), K(L..R-1), K(L+1..R-1)).  The same operations in the same
+    order for mpmath scalars (:func:`_hill_y`) and NumPy arrays
+    (:func:`pendulab.analyses.floquet._vectorised.trace_monodromy`): ``one`` and
+    ``zero`` give the type.
+    """
+    klr, kl1r, klr1, kl1r1 = one, one, one, zero
+    L = R = 0
+    gR = gL = g(0)
+    for _ in range(steps):
+        gn = g(R + 1)
+        c = gR * gn
+        R += 1
+        gR = gn
+        klr, kl1r, klr1, kl1r1 = klr - c * klr1, kl1r - c * kl1r1, klr, kl1r
+        gn = g(L - 1)
+        c = gn * gL
+        L -= 1
+        gL = gn
+        klr, klr1, kl1r, kl1r1 = klr - c * kl1r, klr1 - c * kl1r1, klr, klr1
+        yield klr
+
+
 def _hill_y(X0, X1, w):
     """cos(pi lam) from Hill's determinant at dps w; returns (y, depth)."""
     with mpmath.workdps(w):
@@ -45,23 +72,7 @@ def _hill_y(X0, X1, w):
         def g(n):
             return x1 / ((2 * n + s) ** 2 - x0)
 
-        # continuants of the window [L, R]: K(L..R), K(L+1..R), K(L..R-1), K(L+1..R-1)
-        klr, kl1r, klr1, kl1r1 = mpmath.mpf(1), mpmath.mpf(1), mpmath.mpf(1), mpmath.mpf(0)
-        L = R = 0
-        gR, gL = g(0), g(0)
-        seq = []
-        for _ in range(M):
-            gn = g(R + 1)
-            c = gR * gn
-            R += 1
-            gR = gn
-            klr, kl1r, klr1, kl1r1 = klr - c * klr1, kl1r - c * kl1r1, klr, kl1r
-            gn = g(L - 1)
-            c = gn * gL
-            L -= 1
-            gL = gn
-            klr, klr1, kl1r, kl1r1 = klr - c * kl1r, klr1 - c * kl1r1, klr, klr1
-            seq.append(klr)
+        seq = list(continuants(g, M, mpmath.mpf(1), mpmath.mpf(0)))
         delta, _ = mpmath.richardson(seq)
         if x0 >= 0:
             cr = mpmath.cospi(mpmath.sqrt(x0))

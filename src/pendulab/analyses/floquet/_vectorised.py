@@ -12,6 +12,7 @@ import mpmath
 from pendulab.errors import AccuracyWarning, InputError, PrecisionError
 from pendulab.analyses.floquet._bands import FAMILIES, _edge_index, _family_diagonals, _tail_steps
 from pendulab.analyses.floquet._exponent import characteristic_exponent
+from pendulab.analyses.floquet._hill import continuants
 from pendulab.analyses.floquet._inputs import SIZE_LIMIT
 
 
@@ -1067,24 +1068,11 @@ def _trace_half(f0, f1, N0):
     def g(n):
         return f1 / ((2 * n + s) ** 2 - f0)
 
-    klr, kl1r, klr1, kl1r1 = one.copy(), one.copy(), one.copy(), np.zeros_like(f0)
-    L = R = 0
-    gR = gL = g(0)
     D = [None] * 4
     with np.errstate(over="ignore", invalid="ignore"):
-        for N in range(1, N0 * 8 + 1):
-            gn = g(R + 1)
-            c = gR * gn
-            R += 1
-            gR = gn
-            klr, kl1r, klr1, kl1r1 = klr - c * klr1, kl1r - c * kl1r1, klr, kl1r
-            gn = g(L - 1)
-            c = gn * gL
-            L -= 1
-            gL = gn
-            klr, klr1, kl1r, kl1r1 = klr - c * kl1r, klr1 - c * kl1r1, klr, klr1
+        for N, klr in enumerate(continuants(g, N0 * 8, one, np.zeros_like(f0)), start=1):
             if N in checkpoints:
-                D[checkpoints[N]] = klr.copy()
+                D[checkpoints[N]] = klr
         # remove N^-3, N^-4, N^-5 terms
         T = D
         for p in (3, 4, 5):
