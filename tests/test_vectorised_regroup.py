@@ -18,22 +18,11 @@ import pytest
 
 from pendulab.analyses.floquet import _vectorised as V
 from pendulab.errors import PrecisionError
-from pendulab.numerics import ckernel
 
 DATA = os.path.join(os.path.dirname(__file__), "data", "mathieu_lambda_grid.csv")
 
 
-@pytest.fixture(autouse=True)
-def _kernel_cache(tmp_path_factory, monkeypatch):
-    """Kernels compile into a per-session temporary cache, never the user's."""
-    monkeypatch.setenv("PENDULAB_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "kcache"))
-    monkeypatch.delenv("PENDULAB_CC", raising=False)
-    monkeypatch.delenv("PENDULAB_BAND_NUMPY", raising=False)
-    ckernel.clear_loaded()
-    V._C_STATE.clear()
-    yield
-    ckernel.clear_loaded()
-    V._C_STATE.clear()
+pytestmark = pytest.mark.usefixtures("band_kernel_cache")
 
 
 # ----------------------------------------------------------------- reference
