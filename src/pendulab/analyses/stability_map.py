@@ -17,10 +17,10 @@ from fractions import Fraction
 import mpmath
 
 from pendulab.analyses.floquet._charvalues import (
-    _band_at_two_precisions, _band_certified, _first_band_mp, _value_method,
+    _band_at_two_precisions, _band_certified, _first_band_mp, _proved_or_none, _value_method,
 )
 from pendulab.analyses.floquet._inputs import SIZE_LIMIT, _check_dps, _exact, _mp
-from pendulab.errors import InputError, PrecisionError
+from pendulab.errors import InputError
 
 __all__ = ["stability_limits", "map_limits", "stability_map", "map_stability"]
 
@@ -84,11 +84,10 @@ def map_limits(pmap, point, dps=None, what="the limits", method=None):
             if th0 >= 1:
                 raise InputError(f"theta0 = {float(th0):.8g} >= 1: the first stable band at "
                                  "theta0 >= 1 is not the one that starts at theta1 = 0")
-            try:
-                return _band_certified(th0, dps, what, scale=abs(scale))
-            except PrecisionError:
-                if asked is not None:
-                    raise  # the default route falls back to mpmath (no digits claimed)
+            band = _proved_or_none(asked, lambda: _band_certified(th0, dps, what,
+                                                                  scale=abs(scale)))
+            if band is not None:
+                return band
 
     def band(ww):
         args = {k: _mp(v) for k, v in exact.items()}

@@ -27,6 +27,19 @@ def _value_method(method, dps, name):
     return method
 
 
+def _proved_or_none(asked, prove):
+    """``prove()`` (the ball-arithmetic route), or None where it raises PrecisionError and
+    no method was asked for: the default route then falls back to mpmath, which claims no
+    digits (tiny q, where neighbouring Sturm pivots nearly vanish and the balls cannot be
+    made narrow enough).  With method "arb" asked for, the PrecisionError stands."""
+    try:
+        return prove()
+    except PrecisionError:
+        if asked is not None:
+            raise
+        return None
+
+
 def _certified(compute, want, what):
     """The arb routes: ``compute(w)`` returns (text, ball) or None; the text (``want``
     correctly rounded digits) read as an mpf at want + 10 digits."""
@@ -120,13 +133,8 @@ def _char_value(kind, m, q, dps, method=None):
     v = None
     if method == "arb":
         from pendulab.analyses.floquet._arb import char_value_at
-        try:
-            v = _certified(lambda w: char_value_at(family, j, Q, want, w), want, what)
-        except PrecisionError:
-            if asked is not None:
-                raise
-            # the default route: where the balls cannot be made narrow enough (tiny q,
-            # where neighbouring Sturm pivots nearly vanish) the mpmath route answers
+        v = _proved_or_none(asked, lambda: _certified(
+            lambda w: char_value_at(family, j, Q, want, w), want, what))
     if v is None:
         def compute(w):
             with mpmath.workdps(w):
@@ -215,11 +223,9 @@ def first_band(theta0, dps=None, method=None):
         raise InputError(f"|theta0| = {_size_text(abs(X0), SIZE_LIMIT)} is too large "
                          f"(limit {SIZE_LIMIT:g})")
     if method == "arb":
-        try:
-            return _band_certified(X0, dps, f"first_band({theta0})")
-        except PrecisionError:
-            if asked is not None:
-                raise  # the default route falls back to mpmath (no digits claimed)
+        band = _proved_or_none(asked, lambda: _band_certified(X0, dps, f"first_band({theta0})"))
+        if band is not None:
+            return band
     return _band_at_two_precisions(lambda ww: _first_band_mp(_mp(X0), ww), dps,
                                    f"first_band({theta0})")
 
