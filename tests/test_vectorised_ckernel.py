@@ -16,6 +16,7 @@ loops as the fallback.  Checked here:
 """
 
 import ctypes
+import math
 import os
 
 import mpmath
@@ -23,7 +24,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from pendulab.analyses.floquet import exponent, theta0_of_exponent
+from pendulab.analyses.floquet import exponent, theta0_of_exponent, trace_monodromy
 from pendulab.analyses.floquet import _vectorised as V
 from pendulab.numerics import ckernel
 
@@ -72,6 +73,48 @@ def test_lambda_grid_rows_give_the_same_bits(monkeypatch):
     _same_bits(c, n)
     c, n = _both(exponent, monkeypatch, lam, -q)
     _same_bits(c, n)
+
+
+def test_trace_continuants_give_the_same_bits(rng, monkeypatch):
+    # the gap route's Hill determinant (pendulab_trace_continuants) against the
+    # NumPy continuants, also where the trace is huge (large |theta1|)
+    th0 = rng.uniform(-20.0, 40.0, 3000)
+    th1 = rng.uniform(-30.0, 30.0, 3000) * rng.choice([1e-3, 1.0, 30.0], 3000)
+    c, n = _both(trace_monodromy, monkeypatch, th0, th1)
+    _same_bits(c, n)
+    assert np.isfinite(c).all() and np.abs(c).max() > 1e10
+
+
+def test_trace_continuants_against_mpmath():
+    # the four depths kept by the C recurrence against the same continuants of
+    # Hill's rows in 40-digit mpmath (pendulab.analyses.floquet._hill.continuants)
+    from pendulab.analyses.floquet._hill import continuants
+
+    lib = V._c_band()
+    assert lib is not None
+    f0 = np.array([0.3, 2.7, -1.5, 9.2, 30.0])
+    f1 = np.array([0.8, -2.0, 1.25, 4.0, -7.5])
+    s = np.array([1, 0, 0, 0, 1])
+    N0 = 30
+    D = V._c_continuants(lib, f0, f1, s, N0)
+    with mpmath.workdps(40):
+        for p in range(f0.size):
+            x0, x1, sp_ = mpmath.mpf(f0[p]), mpmath.mpf(f1[p]), int(s[p])
+            seq = list(continuants(lambda n: x1 / ((2 * n + sp_) ** 2 - x0), 8 * N0,
+                                   mpmath.mpf(1), mpmath.mpf(0)))
+            for j in range(4):
+                ref = seq[N0 * 2 ** j - 1]
+                assert abs(D[j][p] - ref) <= 1e-13 * max(1, abs(ref)), (p, j, D[j][p], ref)
+
+
+def test_guess_polynomials_are_accurate():
+    # the guesses' arccos (Abramowitz & Stegun 4.4.46, |error| <= 2e-8 before
+    # dividing by pi) and cos(pi x) (Taylor series to z^15) against the C library
+    x = np.linspace(0.0, 1.0, 100001)
+    ref = np.array([math.acos(t) / math.pi for t in (2 * x - 1)])
+    assert np.abs(V._acos_over_pi(2 * x - 1) - ref).max() <= 2.5e-8 / math.pi
+    ref = np.array([math.cos(math.pi * t) for t in x])
+    assert np.abs(V._cospi01(x) - ref).max() <= 1e-11
 
 
 def test_portable_build_gives_the_same_bits(rng, tmp_path, monkeypatch):

@@ -137,20 +137,86 @@ def exponent(theta0, theta1):
     # inside a band: lam real, the root in (k, k+1) of det(J(lam) - theta0)
     in_band = band & ~zero & np.isfinite(below) & np.isfinite(above)
     inb = np.nonzero(in_band)[0]
-    if inb.size:
+    lib = _c_band() if inb.size else None
+    if lib is not None:
+        _c_band_all(lib, 1, inb, f0, np.abs(f1), cnt, below, above, out)
+    elif inb.size:
         k = (cnt[inb] - 1) >> 1             # (cnt - 1) // 2, cnt odd
         absq = np.abs(f1[inb])
         # one truncation per band index and octave of |q| (rows grow like sqrt|q|);
         # the points sorted by group once
-        octave = np.floor(np.log2(absq)).clip(-4, None).astype(np.int64)
-        order, cuts = _group_order(k * 4096 + octave)
+        order, cuts = _group_order(k * 4096 + _octave(absq))
         at = inb[order]
-        out[at] = _solve_groups(_band_nu, _band_nu_guess, f0[at], absq[order], k[order],
+        out[at] = _solve_groups(_band_nu, f0[at], absq[order], k[order],
                                 below[at], above[at], cuts)
     ri = np.nonzero(~in_band & ~zero)[0]
     if ri.size:
         out[ri] = _exponent_by_trace(f0[ri], f1[ri], cnt[ri], below[ri], above[ri])
     return out.reshape(shape)
+
+
+def _octave(absq):
+    """floor(log2 |q|), at least -4, for positive |q| (exact: the binary exponent;
+    the group key of :func:`exponent` and :func:`_theta0_of_exponent_array`,
+    the same as octave() in :data:`_BAND_C`)."""
+    import numpy as np
+
+    return np.maximum(np.frexp(absq)[1].astype(np.int64) - 1, -4)
+
+
+def _c_band_all(lib, kind, idx, p, absq, kc, lo, hi, out, oidx=None):
+    """A band route in the C kernel for a list of points, without sorting or
+    gathering in NumPy: the groups of :func:`_group_order` (the same keys, so the
+    same truncation R per group and the same bits as the NumPy path) from
+    pendulab_band_groups, then the Newton loops of pendulab_band_all.
+
+    kind 1 (:func:`exponent`): the points ``idx`` of the flat arrays theta0 ``p``,
+    ``absq``, ``kc`` (the count of characteristic values below theta0), ``lo``,
+    ``hi``; lam goes to the real parts of ``out`` (complex) at ``idx``.
+    kind 0 (:func:`_theta0_of_exponent_array`): all points of nu ``p``, ``absq``,
+    ``kc`` (k = floor(nu)), ``lo``, ``hi``; the eigenvalue goes to out[oidx]."""
+    import ctypes
+
+    import numpy as np
+
+    PD, PL = ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_long)
+
+    def d(a):
+        return np.ascontiguousarray(a, dtype=np.float64)
+
+    p, absq, lo, hi = d(p), d(absq), d(lo), d(hi)
+    kc = np.ascontiguousarray(kc, dtype=np.int64)
+    if kind:
+        idx = np.ascontiguousarray(idx, dtype=np.int64)
+        n, kmax, qtop = idx.size, (int(kc[idx].max()) - 1) >> 1, float(absq[idx].max())
+        ip, flat = idx.ctypes.data_as(PL), out.view(np.float64)
+        op = None
+    else:
+        n, kmax, qtop = p.size, int(kc.max()), float(absq.max())
+        ip, flat = None, out
+        oidx = np.ascontiguousarray(oidx, dtype=np.int64)
+        op = oidx.ctypes.data_as(PL)
+    noct = int(_octave(np.array([qtop]))[0]) + 5
+    G = (kmax + 1) * noct
+    gid = np.empty(n, dtype=np.int64)
+    himax, qmax = np.empty(G), np.empty(G)
+    count = np.zeros(G, dtype=np.int64)
+    lib.pendulab_band_groups(kind, n, ip, absq.ctypes.data_as(PD), kc.ctypes.data_as(PL),
+                             hi.ctypes.data_as(PD), noct, G, gid.ctypes.data_as(PL),
+                             himax.ctypes.data_as(PD), qmax.ctypes.data_as(PD),
+                             count.ctypes.data_as(PL))
+    negR = np.zeros(G)
+    L = np.zeros(G, dtype=np.int64)
+    extra, maxit = (4, 200) if kind else (2, 120)      # as _solve_groups
+    for g in np.nonzero(count)[0].tolist():
+        R = _shifted_rows(float(himax[g]), float(qmax[g]))
+        negR[g], L[g] = float(-R), int(R) + extra
+    if lib.pendulab_band_all(kind, n, ip, op, gid.ctypes.data_as(PL), G, p.ctypes.data_as(PD),
+                             absq.ctypes.data_as(PD), kc.ctypes.data_as(PL),
+                             lo.ctypes.data_as(PD), hi.ctypes.data_as(PD),
+                             negR.ctypes.data_as(PD), L.ctypes.data_as(PL), maxit,
+                             flat.ctypes.data_as(PD)) < 0:
+        raise MemoryError("the band kernel could not allocate its work arrays")
 
 
 def _group_order(key):
@@ -171,28 +237,20 @@ def _group_order(key):
     return order, cuts
 
 
-def _solve_groups(solve, guess, P, A, K, LO, HI, cuts):
-    """``solve`` (:func:`_band_eigen` or :func:`_band_nu`) on points sorted by
-    group of equal (k, octave of |q|) (group g is the slice cuts[g]:cuts[g + 1],
-    see :func:`_group_order`), one truncation R per group from its largest hi
-    and |q|; with the C kernel the guess (``guess``, elementwise) is taken for
-    all points at once.  Results in the order of the points."""
+def _solve_groups(solve, P, A, K, LO, HI, cuts):
+    """The NumPy path of a band route: ``solve`` (:func:`_band_eigen` or
+    :func:`_band_nu`) on points sorted by group of equal (k, octave of |q|)
+    (group g is the slice cuts[g]:cuts[g + 1], see :func:`_group_order`), one
+    truncation R per group from its largest hi and |q| (the C kernel's
+    :func:`_c_band_all` takes the same groups).  Results in the order of the points."""
     import numpy as np
 
     Q2 = A * A
     res = np.empty(P.size)
-    lib = _c_band()
-    if lib is not None:
-        X0 = guess(P, K, LO, HI)
-        kind, extra, maxit = (0, 2, 120) if solve is _band_eigen else (1, 4, 200)
     for s0, s1 in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
         sl = slice(s0, s1)
         R = _shifted_rows(float(HI[sl].max()), float(A[sl].max()))
-        if lib is not None:
-            res[sl] = _c_newton(lib, kind, P[sl], Q2[sl], K[sl], LO[sl], HI[sl], X0[sl], R,
-                                int(R) + extra, maxit)
-        else:
-            res[sl] = solve(P[sl], Q2[sl], K[sl], LO[sl], HI[sl], R)
+        res[sl] = solve(P[sl], Q2[sl], K[sl], LO[sl], HI[sl], R)
     return res
 
 
@@ -214,6 +272,9 @@ def _bands_fast(f0, f1):
     except PrecisionError:
         return _bands_double(f0, f1)
     ne = E.shape[1]
+    lib = _c_band()
+    if lib is not None and ne:
+        return _c_band_count(lib, f0, qs, inv, E)
     # the count of edges below theta0, one column (ascending) at a time; the
     # rows are sorted, so no later column counts once one does not
     cnt = np.zeros(f0.size, dtype=np.int64)
@@ -229,6 +290,26 @@ def _bands_fast(f0, f1):
     base = inv * ne
     below = np.where(cnt > 0, Ef[base + np.clip(cnt - 1, 0, ne - 1)], -np.inf)
     above = np.where(cnt < ne, Ef[base + np.clip(cnt, 0, ne - 1)], np.inf)
+    return cnt, below, above
+
+
+def _c_band_count(lib, f0, qs, inv, E):
+    """(cnt, below, above) of :func:`_bands_fast` in the C kernel: per point, the
+    edges of its row of E below theta0 and the two around it (the same values)."""
+    import ctypes
+
+    import numpy as np
+
+    PD, PL = ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_long)
+    t0 = np.ascontiguousarray(f0, dtype=np.float64)
+    row = np.ascontiguousarray(inv, dtype=np.int64)
+    Ec = np.ascontiguousarray(E, dtype=np.float64)
+    cnt = np.empty(t0.size, dtype=np.int64)
+    below = np.empty(t0.size)
+    above = np.empty(t0.size)
+    lib.pendulab_band_count(t0.size, t0.ctypes.data_as(PD), row.ctypes.data_as(PL),
+                            Ec.ctypes.data_as(PD), Ec.shape[1], cnt.ctypes.data_as(PL),
+                            below.ctypes.data_as(PD), above.ctypes.data_as(PD))
     return cnt, below, above
 
 
@@ -263,6 +344,31 @@ def _in_chunks(chunk_fn, x, q2, k, lo, hi, R, chunk):
     return out
 
 
+#: arccos x = sqrt(1 - x) (a0 + a1 x + ... + a7 x^7) + e, |e| <= 2e-8 on [0, 1]
+#: (Abramowitz & Stegun 4.4.46): the guess of the band route from +, -, *, / and
+#: sqrt alone, so that NumPy and the C kernel give it with the same bits on
+#: every machine (NumPy's arccos and the C library's acos may differ in the last bit)
+_ACOS_COEFFS = (1.5707963050, -0.2145988016, 0.0889789874, -0.0501743046,
+                0.0308918810, -0.0170881256, 0.0066700901, -0.0012624911)
+
+
+def _acos_over_pi(t):
+    """arccos(t)/pi to 1e-8 for an array t in [-1, 1] (:data:`_ACOS_COEFFS`; the
+    operations of acos_over_pi in :data:`_BAND_C`)."""
+    import numpy as np
+
+    y = np.abs(t)
+    r = _ACOS_COEFFS[7] * y
+    for c in _ACOS_COEFFS[6:0:-1]:
+        r += c
+        r *= y
+    r += _ACOS_COEFFS[0]
+    r *= np.sqrt(1.0 - y)
+    r = np.where(t >= 0.0, r, math.pi - r)
+    r /= math.pi
+    return r
+
+
 def _band_nu_guess(th0, k, lo, hi):
     """The first lam of :func:`_band_nu` (NumPy, for both paths)."""
     import numpy as np
@@ -285,8 +391,7 @@ def _band_nu_guess(th0, k, lo, hi):
     np.multiply(wide, wide, out=wide)
     t = 2.0 * w
     np.subtract(1.0, t, out=t)
-    a = np.arccos(t)
-    a /= np.pi
+    a = _acos_over_pi(t)
     a += kf
     t = 1.0 - wide
     t *= a
@@ -498,6 +603,27 @@ def _band_eigen(nu, q2, k, lo, hi, R, chunk=8192):
     return _in_chunks(_band_eigen_chunk, nu, q2, k, lo, hi, R, chunk)
 
 
+#: sin z = z (c0 + c1 z^2 + ... + c7 z^14) + e, c_j = (-1)^j/(2j + 1)!, |e| < 1e-11
+#: for |z| <= pi/2 (the Taylor series): the guess of theta0_of_exponent's band
+#: route from +, -, * alone, the same bits in NumPy and in the C kernel
+_SIN_COEFFS = tuple((-1) ** j / math.factorial(2 * j + 1) for j in range(8))
+
+
+def _cospi01(x):
+    """cos(pi x) to 1e-11 for an array x in [0, 1] (:data:`_SIN_COEFFS`, as
+    -sin(pi (x - 1/2)); the operations of cospi01 in :data:`_BAND_C`)."""
+    z = x - 0.5
+    z *= math.pi
+    t = z * z
+    r = _SIN_COEFFS[7] * t
+    for c in _SIN_COEFFS[6:0:-1]:
+        r += c
+        r *= t
+    r += _SIN_COEFFS[0]
+    r *= z
+    return -r
+
+
 def _band_eigen_guess(nu, k, lo, hi):
     """The first x of :func:`_band_eigen` (NumPy, for both paths)."""
     import numpy as np
@@ -516,8 +642,7 @@ def _band_eigen_guess(nu, k, lo, hi):
     np.clip(wide, 0.0, 1.0, out=wide)
     np.multiply(wide, wide, out=wide)
     c = nu - kk
-    c *= np.pi
-    c = np.cos(c)
+    c = _cospi01(c)
     c *= 0.5
     np.subtract(0.5, c, out=c)
     w = 1.0 - wide
@@ -604,12 +729,15 @@ def _band_eigen_chunk(nu, q2, k, lo, hi, R):
 #: :func:`_band_nu_chunk` (compiled by :func:`pendulab.numerics.ckernel.load_source`
 #: with -ffp-contract=off and no -ffast-math: the same IEEE operations in the same
 #: order, so the same bits as the NumPy path; tests/test_vectorised_ckernel.py)
-_BAND_C = r"""/* Newton iterations of pendulab.analyses.floquet._vectorised (_band_eigen_chunk,
+_BAND_C = "".join(f"#define ACOS_A{i} {c!r}\n" for i, c in enumerate(_ACOS_COEFFS)) + \
+    "".join(f"#define SIN_C{i} {c!r}\n" for i, c in enumerate(_SIN_COEFFS)) + \
+    f"#define PI_D {math.pi!r}\n" + r"""/* Newton iterations of pendulab.analyses.floquet._vectorised (_band_eigen_chunk,
    _band_nu_chunk), point by point: the same IEEE double operations in the
    same order as the NumPy code, so the results are the same bits.  LANES
    points are swept through the rows together (the loop over lanes
    vectorises); a lane whose point has finished takes the next point. */
 #include <math.h>
+#include <stdlib.h>
 
 #define LANES 8
 
@@ -618,6 +746,90 @@ static const double U025 = 0.25 * 0x1p-53; /* 0.25 * _U */
 
 static double npmax1(double x) { return x >= 1.0 || x != x ? x : 1.0; }   /* np.maximum(1.0, x) */
 static double npmin(double x, double y) { return (x != x || x <= y) ? x : (y != y ? y : y); }
+static double npclip(double x, double a, double b) { return x < a ? a : (x > b ? b : x); }
+
+/* acos(t)/pi for t in [-1, 1] from +, -, *, / and sqrt only (_acos_over_pi) */
+static double acos_over_pi(double t)
+{
+    double y = fabs(t);
+    double r = ACOS_A7 * y;
+    r += ACOS_A6; r *= y; r += ACOS_A5; r *= y; r += ACOS_A4; r *= y; r += ACOS_A3; r *= y;
+    r += ACOS_A2; r *= y; r += ACOS_A1; r *= y; r += ACOS_A0;
+    r *= sqrt(1.0 - y);
+    if (!(t >= 0.0)) r = PI_D - r;
+    return r / PI_D;
+}
+
+/* cos(pi x) for x in [0, 1] from +, -, * alone (_cospi01) */
+static double cospi01(double x)
+{
+    double z = x - 0.5;
+    z *= PI_D;
+    double t = z * z;
+    double r = SIN_C7 * t;
+    r += SIN_C6; r *= t; r += SIN_C5; r *= t; r += SIN_C4; r *= t; r += SIN_C3; r *= t;
+    r += SIN_C2; r *= t; r += SIN_C1; r *= t; r += SIN_C0;
+    r *= z;
+    return -r;
+}
+
+/* the first x of theta0_of_exponent's band route (_band_eigen_guess, the same operations) */
+static double eigen_guess(double nu, long k, double lo, double hi)
+{
+    double span = hi - lo;
+    span = (span >= 0.0 || span != span) ? span : 0.0;          /* np.maximum(span, 0.0) */
+    double kk = (double)k;
+    double k21 = 2.0 * kk;
+    k21 += 1.0;
+    double wide = span / k21;
+    wide = npclip(wide, 0.0, 1.0);
+    wide = wide * wide;
+    double c = nu - kk;
+    c = cospi01(c);
+    c *= 0.5;
+    c = 0.5 - c;
+    double w = 1.0 - wide;
+    w *= c;
+    double v = nu * nu;
+    kk = kk * kk;
+    v -= kk;
+    v /= k21;
+    v = npclip(v, 0.0, 1.0);
+    v *= wide;
+    w += v;
+    w *= span;
+    w += lo;
+    return npclip(w, lo, hi);
+}
+
+/* the first lam of the band route (_band_nu_guess, the same operations) */
+static double nu_guess(double th0, long k, double lo, double hi)
+{
+    double kf = (double)k;
+    double span = hi - lo;
+    span = (span >= 1e-300 || span != span) ? span : 1e-300;    /* np.maximum(span, 1e-300) */
+    double w = th0 - lo;
+    w /= span;
+    w = npclip(w, 0.0, 1.0);
+    double k21 = 2.0 * kf;
+    k21 += 1.0;
+    double wide = span / k21;
+    wide = npclip(wide, 0.0, 1.0);
+    wide = wide * wide;
+    double t = 2.0 * w;
+    t = 1.0 - t;
+    double a = acos_over_pi(t);
+    a += kf;
+    t = 1.0 - wide;
+    t *= a;
+    w = w * k21;
+    double kf2 = kf * kf;
+    kf2 += w;
+    a = sqrt(kf2);
+    a *= wide;
+    t += a;
+    return npclip(t, kf + 1e-9, (kf + 1.0) - 1e-9);
+}
 
 /* rows of J(nu) - x: pivots u_i of its LDL^T, the count of negative ones and
    sum u_i'/u_i (d/dx); one point (the diagnostic entry point of the tests) */
@@ -701,14 +913,14 @@ void pendulab_newton_eigen(long n, long M, const double *d, const double *e2, do
     }
 }
 
-/* kind 0: the k-th eigenvalue x of J(nu) in (lo, hi) (_band_eigen_chunk);
-   kind 1: the exponent lam in (k, k+1) with theta0 in band k (_band_nu_chunk).
-   p: nu (kind 0) or theta0 (kind 1); x0: the guess; lo, hi: the band edges
-   (kind 0) or unused (kind 1); negR = -R; L rows.  Returns the number of
-   points that used all maxit iterations. */
-long pendulab_band_newton(int kind, long n, const double *p, const double *q2, const long *k,
-                          const double *lo, const double *hi, const double *x0, double negR,
-                          long L, long maxit, double *out)
+/* The Newton loop of pendulab_band_newton for the points ord[0..n) (or 0..n
+   when ord is null); q2 null: theta1^2 = absq^2; k null: k = (below_cnt - 1)/2;
+   x0 null: the guess of _band_eigen_guess (kind 0) or _band_nu_guess (kind 1);
+   the result of point s in out[ostride * (oidx ? oidx[s] : s)]. */
+static long band_core(int kind, long n, const long *ord, const double *p, const double *q2,
+                      const double *absq, const long *k, const long *below_cnt,
+                      const double *lo, const double *hi, const double *x0, double negR, long L,
+                      long maxit, double *out, const long *oidx, long ostride)
 {
     double P[LANES], E2[LANES], N0[LANES], X[LANES], A[LANES], Bb[LANES], LA[LANES], HA[LANES];
     double u[LANES], g[LANES], sm[LANES], m[LANES], r[LANES];
@@ -724,9 +936,14 @@ long pendulab_band_newton(int kind, long n, const double *p, const double *q2, c
         /* fill the free lanes */
         for (int j = 0; j < LANES; j++) {
             if (idx[j] >= 0 || next >= n) continue;
-            long s = next++;
+            long s = ord ? ord[next] : next;
+            next++;
             idx[j] = s; it[j] = 0; active++;
-            P[j] = p[s]; E2[j] = q2[s]; K[j] = k[s]; X[j] = x0[s];
+            P[j] = p[s];
+            E2[j] = q2 ? q2[s] : absq[s] * absq[s];
+            K[j] = k ? k[s] : (below_cnt[s] - 1) >> 1;
+            X[j] = x0 ? x0[s] : kind ? nu_guess(P[j], K[j], lo[s], hi[s])
+                                      : eigen_guess(P[j], K[j], lo[s], hi[s]);
             if (kind == 0) {
                 N0[j] = 2.0 * floor((negR - P[j]) / 2.0);
                 A[j] = lo[s]; Bb[j] = hi[s]; LA[j] = lo[s]; HA[j] = hi[s];
@@ -807,13 +1024,143 @@ long pendulab_band_newton(int kind, long n, const double *p, const double *q2, c
             it[j]++;
             if (done || it[j] >= maxit) {
                 if (!done) slow++;
-                out[idx[j]] = xn;
+                out[ostride * (oidx ? oidx[idx[j]] : idx[j])] = xn;
                 idx[j] = -1;
                 active--;
             }
         }
     }
     return slow;
+}
+
+/* kind 0: the k-th eigenvalue x of J(nu) in (lo, hi) (_band_eigen_chunk);
+   kind 1: the exponent lam in (k, k+1) with theta0 in band k (_band_nu_chunk).
+   p: nu (kind 0) or theta0 (kind 1); x0: the guess; lo, hi: the band edges;
+   negR = -R; L rows.  Returns the number of points that used all maxit
+   iterations. */
+long pendulab_band_newton(int kind, long n, const double *p, const double *q2, const long *k,
+                          const double *lo, const double *hi, const double *x0, double negR,
+                          long L, long maxit, double *out)
+{
+    return band_core(kind, n, 0, p, q2, 0, k, 0, lo, hi, x0, negR, L, maxit, out, 0, 1);
+}
+
+/* The band count of _bands_fast: for each point, the number of entries of its
+   row (row[p]) of E (sorted rows, +inf padded; ne columns) below theta0, and
+   the entries just below and above it (-inf / +inf at the ends). */
+void pendulab_band_count(long n, const double *th0, const long *row, const double *E, long ne,
+                         long *cnt, double *below, double *above)
+{
+    for (long p = 0; p < n; p++) {
+        const double *e = E + row[p] * ne;
+        const double x = th0[p];
+        long c = 0;
+        while (c < ne && e[c] < x) c++;
+        cnt[p] = c;
+        below[p] = c > 0 ? e[c - 1] : -INFINITY;
+        above[p] = c < ne ? e[c] : INFINITY;
+    }
+}
+
+/* floor(log2 x), at least -4, for x > 0 (exact; _octave) */
+static long octave(double x)
+{
+    int e;
+    frexp(x, &e);
+    long o = (long)e - 1;
+    return o < -4 ? -4 : o;
+}
+
+/* The groups of _group_order for the points idx[0..n) (0..n when idx is null):
+   group (k, octave of absq) numbered k * noct + octave + 4, k = kc (kind 0) or
+   (kc - 1)/2 (kind 1: kc counts the characteristic values below theta0); per
+   group (0..G) the largest hi and absq and the number of points. */
+void pendulab_band_groups(int kind, long n, const long *idx, const double *absq, const long *kc,
+                          const double *hi, long noct, long G, long *gid, double *himax,
+                          double *qmax, long *count)
+{
+    for (long g = 0; g < G; g++) { himax[g] = -INFINITY; qmax[g] = -INFINITY; count[g] = 0; }
+    for (long i = 0; i < n; i++) {
+        long s = idx ? idx[i] : i;
+        long g = (kind ? (kc[s] - 1) >> 1 : kc[s]) * noct + octave(absq[s]) + 4;
+        gid[i] = g;
+        count[g]++;
+        if (hi[s] > himax[g]) himax[g] = hi[s];
+        if (absq[s] > qmax[g]) qmax[g] = absq[s];
+    }
+}
+
+/* The band Newton of every point of a list at once, per group of _group_order:
+   kind 1 (the exponent's band route, _band_nu_chunk): the points idx[0..n) of
+   the full arrays p = theta0, absq = |theta1|, kc (characteristic values below
+   theta0; band k = (kc - 1)/2), lo, hi (the band's edges), lam written to
+   out[2 idx] (the real parts of a complex array);
+   kind 0 (theta0_of_exponent, _band_eigen_chunk): the points 0..n of p = nu,
+   absq, kc = k, lo, hi, the eigenvalue written to out[oidx[i]];
+   in the groups gid[0..n) (0..G), with negR[g] = -R and L[g] rows for group g,
+   from the guess of _band_nu_guess or _band_eigen_guess.  Returns the number of
+   points that used all maxit iterations, or -1 when out of memory. */
+long pendulab_band_all(int kind, long n, const long *idx, const long *oidx, const long *gid,
+                       long G, const double *p, const double *absq, const long *kc,
+                       const double *lo, const double *hi, const double *negR, const long *L,
+                       long maxit, double *out)
+{
+    long *start = calloc((size_t)G + 1, sizeof(long));
+    long *ord = malloc((size_t)(n > 0 ? n : 1) * sizeof(long));
+    long slow = 0;
+    if (!start || !ord) { free(start); free(ord); return -1; }
+    for (long i = 0; i < n; i++) start[gid[i] + 1]++;
+    for (long g = 0; g < G; g++) start[g + 1] += start[g];
+    for (long i = 0; i < n; i++)                                  /* stable counting sort */
+        ord[start[gid[i]]++] = idx ? idx[i] : i;
+    for (long g = G; g > 0; g--) start[g] = start[g - 1];
+    start[0] = 0;
+    for (long g = 0; g < G; g++) {
+        long m = start[g + 1] - start[g];
+        if (m <= 0) continue;
+        if (kind)
+            slow += band_core(1, m, ord + start[g], p, 0, absq, 0, kc, lo, hi, 0, negR[g],
+                              L[g], maxit, out, 0, 2);
+        else
+            slow += band_core(0, m, ord + start[g], p, 0, absq, kc, 0, lo, hi, 0, negR[g],
+                              L[g], maxit, out, oidx, 1);
+    }
+    free(start); free(ord);
+    return slow;
+}
+
+/* The continuants of pendulab.analyses.floquet._hill.continuants for the rows
+   g(n) = f1 / ((2n + s)^2 - f0) of _trace_half, one point at a time, kept at
+   the depths N0, 2 N0, 4 N0, 8 N0 (D: n x 4, row-major): the same operations in
+   the same order as the NumPy arrays there. */
+void pendulab_trace_continuants(long n, const double *f0, const double *f1, const long *s,
+                                long N0, double *D)
+{
+    for (long p = 0; p < n; p++) {
+        const double x0 = f0[p], x1 = f1[p];
+        const long sp = s[p];
+        double klr = 1.0, kl1r = 1.0, klr1 = 1.0, kl1r1 = 0.0;
+        long L = 0, R = 0, next = N0;
+        int j = 0;
+        double gR = x1 / ((double)(sp * sp) - x0), gL = gR;
+        for (long N = 1; N <= 8 * N0; N++) {
+            long m = 2 * (R + 1) + sp;
+            double gn = x1 / ((double)(m * m) - x0);
+            double c = gR * gn;
+            R++;
+            gR = gn;
+            double a = klr - c * klr1, b = kl1r - c * kl1r1;
+            klr1 = klr; kl1r1 = kl1r; klr = a; kl1r = b;
+            m = 2 * (L - 1) + sp;
+            gn = x1 / ((double)(m * m) - x0);
+            c = gn * gL;
+            L--;
+            gL = gn;
+            a = klr - c * kl1r; b = klr1 - c * kl1r1;
+            kl1r = klr; kl1r1 = klr1; klr = a; klr1 = b;
+            if (N == next) { D[4 * p + j] = klr; j++; next *= 2; }
+        }
+    }
 }
 """
 
@@ -846,6 +1193,15 @@ def _bind(lib):
     lib.pendulab_band_newton.restype = L
     lib.pendulab_newton_eigen.argtypes = [L, L, PD, PD, PD, L]
     lib.pendulab_newton_eigen.restype = None
+    lib.pendulab_trace_continuants.argtypes = [L, PD, PD, PL, L, PD]
+    lib.pendulab_trace_continuants.restype = None
+    lib.pendulab_band_count.argtypes = [L, PD, PL, PD, L, PL, PD, PD]
+    lib.pendulab_band_count.restype = None
+    lib.pendulab_band_groups.argtypes = [ctypes.c_int, L, PL, PD, PL, PD, L, L, PL, PD, PD, PL]
+    lib.pendulab_band_groups.restype = None
+    lib.pendulab_band_all.argtypes = [ctypes.c_int, L, PL, PL, PL, L, PD, PD, PL, PD, PD, PD, PL,
+                                      L, PD]
+    lib.pendulab_band_all.restype = L
     for fn in (lib.pendulab_eigen_rows, lib.pendulab_nu_rows):
         fn.argtypes = [D, D, D, D, L, PD, PD, PL, PD]
         fn.restype = None
@@ -917,14 +1273,18 @@ def _theta0_of_exponent_array(nu, theta1):
     if todo.size:
         absq = np.abs(f1[todo])
         k = np.floor(fn[todo]).astype(np.int64)
+        lib = _c_band()
+        if lib is not None:
+            LO, HI = _band_edges(absq, k)
+            _c_band_all(lib, 0, None, fn[todo], absq, k, LO, HI, out, todo)
+            return out.reshape(shape)
         # one truncation per band index and octave of |q| (rows grow like sqrt|q|);
         # the points sorted by group once (the band edges do not depend on the order)
-        octave = np.floor(np.log2(np.maximum(absq, 1e-300))).clip(-4, None).astype(np.int64)
-        order, cuts = _group_order(k * 4096 + octave)
+        order, cuts = _group_order(k * 4096 + _octave(absq))
         at = todo[order]
         A, K = absq[order], k[order]
         LO, HI = _band_edges(A, K)
-        out[at] = _solve_groups(_band_eigen, _band_eigen_guess, fn[at], A, K, LO, HI, cuts)
+        out[at] = _solve_groups(_band_eigen, fn[at], A, K, LO, HI, cuts)
     return out.reshape(shape)
 
 
@@ -963,8 +1323,12 @@ def _unique_inverse(a):
 
     if a.size < 4096:
         return np.unique(a, return_inverse=True)
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    # NumPy hashes integers but sorts floats: the bit patterns of doubles >= +0
+    # are distinct integers in the same order (|theta1| here: no -0.0, no nan)
+    key = a.view(np.int64) if float(a.min()) >= 0.0 and not np.signbit(a).any() else a
     try:
-        qs = np.sort(np.unique(a, sorted=False))
+        qs = np.sort(np.unique(key, sorted=False)).view(np.float64)
     except TypeError:       # NumPy < 2.3
         return np.unique(a, return_inverse=True)
     return qs, np.searchsorted(qs, a)
@@ -1069,10 +1433,14 @@ def _trace_half(f0, f1, N0):
         return f1 / ((2 * n + s) ** 2 - f0)
 
     D = [None] * 4
+    lib = _c_band()
     with np.errstate(over="ignore", invalid="ignore"):
-        for N, klr in enumerate(continuants(g, N0 * 8, one, np.zeros_like(f0)), start=1):
-            if N in checkpoints:
-                D[checkpoints[N]] = klr
+        if lib is not None and f0.size:
+            D = _c_continuants(lib, f0, f1, s, N0)
+        else:
+            for N, klr in enumerate(continuants(g, N0 * 8, one, np.zeros_like(f0)), start=1):
+                if N in checkpoints:
+                    D[checkpoints[N]] = klr
         # remove N^-3, N^-4, N^-5 terms
         T = D
         for p in (3, 4, 5):
@@ -1091,6 +1459,22 @@ def _trace_half(f0, f1, N0):
 
 #: unit roundoff of IEEE double precision
 _U = 2.0 ** -53
+
+
+def _c_continuants(lib, f0, f1, s, N0):
+    """The four depths of :func:`_trace_half`'s continuants in the C kernel (the same bits)."""
+    import ctypes
+
+    import numpy as np
+
+    PD, PL = ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_long)
+    a = np.ascontiguousarray(f0, dtype=np.float64)
+    b = np.ascontiguousarray(f1, dtype=np.float64)
+    sc = np.ascontiguousarray(s, dtype=np.int64)
+    D = np.empty((a.size, 4))
+    lib.pendulab_trace_continuants(a.size, a.ctypes.data_as(PD), b.ctypes.data_as(PD),
+                                   sc.ctypes.data_as(PL), int(N0), D.ctypes.data_as(PD))
+    return [D[:, j] for j in range(4)]
 
 
 def _diag_base(family, n):
