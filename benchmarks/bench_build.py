@@ -20,7 +20,8 @@ are listed; the reproducibility of our own build is tests/test_build.py's job.
 Target: wall <= 3 s on a 2-core machine.  The machine is shared and noisy;
 with ``--repeat`` the fastest round of each counts.  ``--jobs`` sets
 PENDULAB_JOBS for ours (1 = the serial path); ``--serial`` times the serial
-path as well.
+path as well.  ``--breakdown`` prints instead the CPU time of the imports and of
+every stage and product of each scene, computed one after another in one process.
 """
 
 import argparse
@@ -71,12 +72,54 @@ def baseline_source(into):
     return Path(into) / "src"
 
 
+def breakdown():
+    """Print the CPU time of the imports, of each scene's stages and of each product,
+    computed one after another in this process (where the main job's time goes)."""
+    sys.path.insert(0, str(ROOT / "src"))
+    clock = time.process_time
+    c = clock()
+    import numpy, scipy.integrate, scipy.linalg, scipy.special, sympy, mpmath  # noqa: F401,E401
+    print(f"breakdown (CPU s, one process, serial): imports NumPy/SciPy/SymPy/mpmath {clock() - c:.2f}")
+    from pendulab.figures import pyplot
+    c = clock()
+    pyplot("breakdown")
+    import matplotlib.backends.backend_pdf  # noqa: F401
+    print(f"    import matplotlib (Agg, PDF) {clock() - c:.2f}")
+    from pendulab.build import scene_paths
+    from pendulab.pipeline import STAGES, Context, product_module
+    from pendulab.scene import load_scene
+    total = 0.0
+    for path in scene_paths(ROOT / "derivations"):
+        sc = load_scene(path)
+        ctx = Context(sc)
+        parts = []
+        for name in STAGES:
+            c = clock()
+            ctx.get(name)
+            parts.append((name, clock() - c))
+        for name in sorted(sc.products):
+            c = clock()
+            product_module(name).produce(ctx, sc.products[name])
+            parts.append((f"product {name}", clock() - c))
+        scene_total = sum(t for _, t in parts)
+        total += scene_total
+        print(f"    {sc.name}: {scene_total:.2f} = "
+              + ", ".join(f"{n} {t:.2f}" for n, t in parts if t >= 0.005))
+    print(f"    scenes in all: {total:.2f} s CPU (on 2 cores the wall time is at least half of "
+          "that plus the imports)")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=1, help="rounds (the fastest counts)")
     ap.add_argument("--jobs", type=int, default=None, help="PENDULAB_JOBS for ours")
     ap.add_argument("--serial", action="store_true", help="also time ours with PENDULAB_JOBS=1")
+    ap.add_argument("--breakdown", action="store_true",
+                    help="only print the CPU time of each scene's stages and products (serial)")
     args = ap.parse_args(argv)
+    if args.breakdown:
+        breakdown()
+        return
     tmp = Path(tempfile.mkdtemp(prefix="bench-build-"))
     try:
         old_src = baseline_source(tmp)

@@ -110,15 +110,20 @@ def exponent(theta0, theta1):
     d = (-1)^e (y(E) - y(theta0)) with y(E) computed by the same routine, so
     that the (smooth) truncation error of the trace cancels too:
     d = 2 sin^2(pi (lam - e)/2) in a band, -2 sinh^2(pi mu/2) in a gap.
-    Accuracy (docs/floquet.md): in the bands the backward error
-    |lam - nu| d lambda/d nu is below 1.4e-15 max(1, |theta0|) on
-    MathieuFunctions.jl's lambda grid (tests/test_floquet_lambda_grid.py);
-    against 25-digit characteristic_exponent on random points
-    (tests/test_floquet_vectorised.py) about 1e-12 absolute, 1e-10 in the
-    gaps, also next to the edges (where lam itself depends on theta0 like a
-    square root: an input error of 1e-16 moves it by ~1e-8).  Points whose
-    trace overflows a double (|Im lam| > ~200) are computed one by one with
-    characteristic_exponent (double precision, method "hill").
+    Accuracy (docs/floquet.md): backward stable.  The backward error
+    |lam - nu| d theta0/d lam is below 1.4e-15 max(1, |theta0|) on
+    MathieuFunctions.jl's lambda grid (tests/test_floquet_lambda_grid.py) and
+    at rounding level next to the edges; the forward error is that divided by
+    |d theta0/d lam|, which vanishes at an edge (lam - e moves like the
+    square root of theta0 - E): about 1e-12 absolute away from the edges
+    against 25-digit characteristic_exponent (tests/test_floquet_vectorised.py),
+    up to ~1e-7 within 1e-6 of an edge.  Deep in a gap mu is good to ~1e-10
+    relative for |theta1| up to 400.  Points the double routes cannot resolve
+    are computed one by one (~10-25 ms each) with characteristic_exponent
+    (double precision, method "hill", guard digits): a band narrower than
+    :data:`THIN_BAND` of the scale, a gap point whose edge trace is not +-1
+    (:data:`EDGE_TRACE_TOL`: bands thinner than their rounding, or a trace lost
+    to cancellation at theta0 << 0), and a trace that overflows (|Im lam| > ~200).
     """
     import numpy as np
 
@@ -136,6 +141,13 @@ def exponent(theta0, theta1):
         out[zero] = np.sqrt(f0[zero] + 0j)
     # inside a band: lam real, the root in (k, k+1) of det(J(lam) - theta0)
     in_band = band & ~zero & np.isfinite(below) & np.isfinite(above)
+    # a band thinner than the rounding of its edges: the scalar routine
+    with np.errstate(invalid="ignore"):
+        thin = in_band & (above - below <= THIN_BAND * np.maximum(
+            1.0, np.maximum(np.abs(f0), np.abs(f1))))
+    if thin.any():
+        in_band &= ~thin
+        out[thin] = _scalar_exponents(f0[thin], f1[thin])
     inb = np.nonzero(in_band)[0]
     lib = _c_band() if inb.size else None
     if lib is not None:
@@ -149,7 +161,7 @@ def exponent(theta0, theta1):
         at = inb[order]
         out[at] = _solve_groups(_band_nu, f0[at], absq[order], k[order],
                                 below[at], above[at], cuts)
-    ri = np.nonzero(~in_band & ~zero)[0]
+    ri = np.nonzero(~in_band & ~zero & ~thin)[0]
     if ri.size:
         out[ri] = _exponent_by_trace(f0[ri], f1[ri], cnt[ri], below[ri], above[ri])
     return out.reshape(shape)
@@ -514,9 +526,36 @@ def _exponent_by_trace(f0, f1, cnt, below, above):
     sign = np.where(e == k, 1.0, -1.0)
     out = np.where(band, e + sign * t + 0j, e + 1j * mu)
     bad = ~(np.isfinite(y) & np.isfinite(yE) & (np.abs(y) < 1e300))
-    for i in np.nonzero(bad)[0]:
-        out[i] = complex(characteristic_exponent(float(f0[i]), float(f1[i])).lam)
+    # d = (-1)^e (y(E) - y) leaves out 1 - (-1)^e y(E), zero at a true edge: the
+    # edge's own trace must be +-1 to the trace's accuracy, or that term small
+    # beside d.  Where neither holds the double edge does not resolve the edge
+    # (a band thinner than its rounding, or a trace that has lost its digits to
+    # cancellation at theta0 << 0) and d means nothing
+    with np.errstate(invalid="ignore"):
+        off = np.abs(yE - se)
+        bad |= ~((off <= EDGE_TRACE_TOL) | (off <= 1e-10 * np.abs(d)))
+    out[bad] = _scalar_exponents(f0[bad], f1[bad])
     return out
+
+
+#: The largest |y(E) - (-1)^e| of a resolved edge in the gap route of
+#: :func:`exponent` (truncation and rounding of the trace there are ~1e-10 and
+#: below), unless it is below 1e-10 |d| (then it changes mu by ~1e-11 at most)
+EDGE_TRACE_TOL = 1e-6
+#: A stable band narrower than this times max(1, |theta0|, |theta1|) is not
+#: resolved by double-precision edges (their error is ~1e-15 of that scale): its
+#: points go to the scalar routine
+THIN_BAND = 1e-9
+
+
+def _scalar_exponents(f0, f1):
+    """lam of each point by :func:`characteristic_exponent` (double precision,
+    method "hill" with its guard digits): the points the vectorised routes
+    cannot resolve."""
+    import numpy as np
+
+    return np.array([complex(characteristic_exponent(float(a), float(b)).lam)
+                     for a, b in zip(f0.tolist(), f1.tolist())], dtype=complex)
 
 
 def _shifted_rows(top, absq, digits=8):
@@ -1403,6 +1442,10 @@ def trace_monodromy(theta0, theta1):
     (N^-3, N^-4, ...) is removed by Richardson extrapolation over the depths
     N0, 2 N0, 4 N0, 8 N0.  Accurate to about 1e-11 relative to
     max(1, |trace|) for moderate parameters; overflows to inf for very large q.
+    For theta0 << 0 the trace is a small difference of terms of size
+    cosh(pi sqrt(-theta0)), and next to a band it loses digits to that
+    cancellation (theta0 = -126, theta1 = 91: -1.996 where the exact trace is
+    -2.005); :func:`exponent` detects it and answers those points otherwise.
     """
     x0, x1 = _check_arrays(theta0, theta1)
     shape = x0.shape
