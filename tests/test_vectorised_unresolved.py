@@ -70,3 +70,24 @@ def test_ordinary_grids_take_no_scalar_fallback(monkeypatch, rng):
     NU, Q = np.broadcast_arrays(nu, qq)
     exponent(theta0_of_exponent(NU, -Q), -Q)
     assert sum(calls) == 0
+
+
+def test_one_large_point_does_not_enlarge_every_table(monkeypatch, rng):
+    # the certified edge tables are built per octave of size (SIZE_BUCKET): a
+    # single nu = 150.5 or theta0 = 3.9e6 among 2000 small points gets its own
+    # table instead of making all 2000 |theta1| as deep as itself
+    seen = []
+    real = V._certify_edges
+    monkeypatch.setattr(V, "_certify_edges",
+                        lambda qs, top, *a, **k: seen.append((len(qs), float(top))) or real(qs, top, *a, **k))
+    q = rng.uniform(0.01, 1.0, 2000)
+    nu = rng.uniform(0.0, 3.0, 2000)
+    nu[0] = 150.5
+    got = theta0_of_exponent(nu, q)
+    t0 = rng.uniform(0.0, 10.0, 2000)
+    t0[0] = 3.9e6
+    lam = exponent(t0, q)
+    assert seen and all(n <= 16 or top <= 200.0 for n, top in seen), seen
+    # and the large points are right (the scalar routines as the reference)
+    assert abs(got[0] - theta0_of_exponent(150.5, float(q[0]))) <= 1e-12 * abs(got[0])
+    assert abs(lam[0] - characteristic_exponent(3.9e6, float(q[0])).lam) <= 1e-9 * abs(lam[0])

@@ -13,7 +13,7 @@ from pendulab.errors import AccuracyWarning, InputError, PrecisionError
 from pendulab.analyses.floquet._bands import FAMILIES, _edge_index, _family_diagonals, _tail_steps
 from pendulab.analyses.floquet._exponent import characteristic_exponent
 from pendulab.analyses.floquet._hill import continuants
-from pendulab.analyses.floquet._inputs import SIZE_LIMIT
+from pendulab.analyses.floquet._inputs import SIZE_LIMIT, _size_text
 
 
 def _edges_double(absq, theta0_max):
@@ -58,7 +58,7 @@ def _check_arrays(theta0, theta1):
     if x0.size:
         size = float(np.max(np.abs(x0) + 2.0 * np.abs(x1)))
         if size > SIZE_LIMIT:
-            raise InputError(f"|theta0| + 2|theta1| = {size:.3g} is too large for the "
+            raise InputError(f"|theta0| + 2|theta1| = {_size_text(size, SIZE_LIMIT)} is too large for the "
                              f"vectorised functions (limit {SIZE_LIMIT:g})")
     return x0, x1
 
@@ -266,9 +266,54 @@ def _solve_groups(solve, P, A, K, LO, HI, cuts):
     return res
 
 
+#: Points of one call whose size (max(theta0, 0) or (k + 1)^2, plus 2|theta1|)
+#: lies below this share one table of certified edges; above it, each octave of
+#: size gets its own (:func:`_size_groups`), so that one large point does not
+#: make the table of every |theta1| of the call as large as its own
+SIZE_BUCKET = 1024.0
+
+
+def _size_groups(size):
+    """[index arrays] of the points grouped by octave of ``size`` above
+    :data:`SIZE_BUCKET`, or None when they all fall in one group."""
+    import numpy as np
+
+    key = np.floor(np.log2(np.maximum(size, SIZE_BUCKET))).astype(np.int64)
+    if key.size == 0 or int(key.min()) == int(key.max()):
+        return None
+    order, cuts = _group_order(key)
+    return [order[a:b] for a, b in zip(cuts[:-1].tolist(), cuts[1:].tolist())]
+
+
+def _by_size(size, fn, *arrays):
+    """fn(*arrays) (a tuple of arrays shaped like the points) computed group by
+    group of :func:`_size_groups`, or at once when there is one group."""
+    import numpy as np
+
+    groups = _size_groups(size)
+    if groups is None:
+        return fn(*arrays)
+    outs = None
+    for g in groups:
+        res = fn(*(a[g] for a in arrays))
+        if outs is None:
+            outs = tuple(np.empty(size.shape, dtype=r.dtype) for r in res)
+        for o, r in zip(outs, res):
+            o[g] = r
+    return outs
+
+
 def _bands_fast(f0, f1):
     """:func:`_bands_double` from the certified values (batched over |q|) when
-    there are many distinct |q|; LAPACK one |q| at a time otherwise."""
+    there are many distinct |q|; LAPACK one |q| at a time otherwise; the points
+    in groups of size (:func:`_by_size`)."""
+    import numpy as np
+
+    return _by_size(np.maximum(f0, 0.0) + 2.0 * np.abs(f1), _bands_fast_one, f0, f1)
+
+
+def _bands_fast_one(f0, f1):
+    """:func:`_bands_fast` for points of one size group."""
     import numpy as np
 
     qs, inv = _unique_inverse(np.abs(f1))
@@ -770,7 +815,8 @@ def _band_eigen_chunk(nu, q2, k, lo, hi, R):
 #: order, so the same bits as the NumPy path; tests/test_vectorised_ckernel.py)
 _BAND_C = "".join(f"#define ACOS_A{i} {c!r}\n" for i, c in enumerate(_ACOS_COEFFS)) + \
     "".join(f"#define SIN_C{i} {c!r}\n" for i, c in enumerate(_SIN_COEFFS)) + \
-    f"#define PI_D {math.pi!r}\n" + r"""/* Newton iterations of pendulab.analyses.floquet._vectorised (_band_eigen_chunk,
+    f"#define PI_D {math.pi!r}\n" + r"""
+/* Newton iterations of pendulab.analyses.floquet._vectorised (_band_eigen_chunk,
    _band_nu_chunk), point by point: the same IEEE double operations in the
    same order as the NumPy code, so the results are the same bits.  LANES
    points are swept through the rows together (the loop over lanes
@@ -1291,7 +1337,7 @@ def _theta0_of_exponent_array(nu, theta1):
     t += fn * fn
     size = float(np.max(t))
     if size > SIZE_LIMIT:
-        raise InputError(f"|nu^2| + 2|theta1| = {size:.3g} is too large for the "
+        raise InputError(f"|nu^2| + 2|theta1| = {_size_text(size, SIZE_LIMIT)} is too large for the "
                          f"vectorised functions (limit {SIZE_LIMIT:g})")
     zero_q = f1 == 0
     is_int = fn == np.floor(fn)
@@ -1330,7 +1376,16 @@ def _theta0_of_exponent_array(nu, theta1):
 def _sorted_edges_at(absq, idx):
     """The idx-th (0-based) of the sorted characteristic values a_n, b_n at each
     |q| (arrays of one shape): certified values (:func:`_certify_edges`), or
-    LAPACK per distinct |q| (:func:`_edges_double`) where that is refused."""
+    LAPACK per distinct |q| (:func:`_edges_double`) where that is refused; the
+    points in groups of size (:func:`_by_size`)."""
+    import numpy as np
+
+    return _by_size((idx // 2 + 1.0) ** 2 + 2.0 * np.abs(absq),
+                    lambda a, i: (_sorted_edges_one(a, i),), absq, idx)[0]
+
+
+def _sorted_edges_one(absq, idx):
+    """:func:`_sorted_edges_at` for points of one size group."""
     import numpy as np
 
     qs, inv = np.unique(absq, return_inverse=True)
@@ -1374,7 +1429,15 @@ def _unique_inverse(a):
 
 
 def _band_edges(absq, k):
-    """Edges (e_{2k}, e_{2k+1}) of stable band k at each |q| (arrays of one shape)."""
+    """Edges (e_{2k}, e_{2k+1}) of stable band k at each |q| (arrays of one shape),
+    the points in groups of size (:func:`_by_size`)."""
+    import numpy as np
+
+    return _by_size((k + 1.0) ** 2 + 2.0 * np.abs(absq), _band_edges_one, absq, k)
+
+
+def _band_edges_one(absq, k):
+    """:func:`_band_edges` for points of one size group."""
     import numpy as np
 
     qs, inv = _unique_inverse(absq)
