@@ -91,3 +91,25 @@ def test_one_large_point_does_not_enlarge_every_table(monkeypatch, rng):
     # and the large points are right (the scalar routines as the reference)
     assert abs(got[0] - theta0_of_exponent(150.5, float(q[0]))) <= 1e-12 * abs(got[0])
     assert abs(lam[0] - characteristic_exponent(3.9e6, float(q[0])).lam) <= 1e-9 * abs(lam[0])
+
+
+def test_size_limit_is_the_inputs_own():
+    # |theta0| + 2|theta1| = 4e6 exactly is accepted (the limit is inclusive); the
+    # gap route's own edge E (a little larger) must not be checked against it
+    from pendulab.analyses.floquet._inputs import SIZE_LIMIT
+
+    lam = exponent([0.0], [SIZE_LIMIT / 2])
+    assert np.isfinite(lam).all() and lam[0].imag > 100
+
+
+@pytest.mark.parametrize("bad", [[1 + 1j], [0.5j], [10 ** 400]])
+def test_complex_and_huge_inputs_are_refused(bad):
+    # refused with one line, not cast to the real part (NumPy's ComplexWarning)
+    from pendulab.errors import InputError
+
+    with pytest.raises(InputError, match="must be real numbers"):
+        exponent(bad, [1.0])
+    with pytest.raises(InputError, match="must be real numbers"):
+        exponent([1.0], bad)
+    with pytest.raises(InputError, match="must be real numbers"):
+        theta0_of_exponent(np.array([0.5]), bad)

@@ -38,9 +38,12 @@ def _real_arrays(x, y, names):
 
     a, b = names
     try:
-        xa = np.asarray(x, dtype=float)
-        ya = np.asarray(y, dtype=float)
-    except (TypeError, ValueError):
+        xa, ya = np.asarray(x), np.asarray(y)
+        if np.iscomplexobj(xa) or np.iscomplexobj(ya):
+            raise TypeError("complex")     # refused, not cast to its real part
+        xa = xa.astype(float, copy=False)
+        ya = ya.astype(float, copy=False)
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"{a} and {b} must be real numbers or arrays of them") from None
     if not (np.all(np.isfinite(xa)) and np.all(np.isfinite(ya))):
         raise InputError(f"{a} and {b} must be finite (no nan or inf)")
@@ -110,15 +113,16 @@ def exponent(theta0, theta1):
     d = (-1)^e (y(E) - y(theta0)) with y(E) computed by the same routine, so
     that the (smooth) truncation error of the trace cancels too:
     d = 2 sin^2(pi (lam - e)/2) in a band, -2 sinh^2(pi mu/2) in a gap.
-    Accuracy (docs/floquet.md): backward stable.  The backward error
-    |lam - nu| d theta0/d lam is below 1.4e-15 max(1, |theta0|) on
-    MathieuFunctions.jl's lambda grid (tests/test_floquet_lambda_grid.py) and
-    at rounding level next to the edges; the forward error is that divided by
-    |d theta0/d lam|, which vanishes at an edge (lam - e moves like the
-    square root of theta0 - E): about 1e-12 absolute away from the edges
-    against 25-digit characteristic_exponent (tests/test_floquet_vectorised.py),
-    up to ~1e-7 within 1e-6 of an edge.  Deep in a gap mu is good to ~1e-10
-    relative for |theta1| up to 400.  Points the double routes cannot resolve
+    Accuracy (docs/floquet.md): backward stable in the bands and next to the
+    edges.  The backward error |lam - nu| d theta0/d lam is below
+    1.4e-15 max(1, |theta0|) on MathieuFunctions.jl's lambda grid
+    (tests/test_floquet_lambda_grid.py) and at rounding level next to the
+    edges; the forward error is that divided by |d theta0/d lam|, which
+    vanishes at an edge (lam - e moves like the square root of theta0 - E):
+    about 1e-12 absolute away from the edges against 25-digit
+    characteristic_exponent (tests/test_floquet_vectorised.py), up to ~1e-7
+    within 1e-6 of an edge.  Deep in a gap the trace's accuracy counts: mu
+    is good to ~1e-11 relative for |theta1| up to 50, ~1e-10 up to 400.  Points the double routes cannot resolve
     are computed one by one (~10-25 ms each) with characteristic_exponent
     (double precision, method "hill", guard digits): a band narrower than
     :data:`THIN_BAND` of the scale, a gap point whose edge trace is not +-1
@@ -554,7 +558,6 @@ def _exponent_by_trace(f0, f1, cnt, below, above):
     at_below = np.where(band, lower_half, near_below)
     # below a_0 with no edge below: any finite value (B, A are f0 there)
     E = np.where(at_below, B, A)
-    _check_arrays(E, f1)
     NE = _trace_depth(E, f1)
     # the recurrence is per point: where E is theta0 itself (a point on an
     # edge) at the same depth, y(E) is y; the others are computed
