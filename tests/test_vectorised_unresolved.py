@@ -78,8 +78,11 @@ def test_one_large_point_does_not_enlarge_every_table(monkeypatch, rng):
     # table instead of making all 2000 |theta1| as deep as itself
     seen = []
     real = V._certify_edges
-    monkeypatch.setattr(V, "_certify_edges",
-                        lambda qs, top, *a, **k: seen.append((len(qs), float(top))) or real(qs, top, *a, **k))
+
+    def spy(qs, top, *a, **k):
+        seen.append((len(qs), float(top)))
+        return real(qs, top, *a, **k)
+    monkeypatch.setattr(V, "_certify_edges", spy)
     q = rng.uniform(0.01, 1.0, 2000)
     nu = rng.uniform(0.0, 3.0, 2000)
     nu[0] = 150.5

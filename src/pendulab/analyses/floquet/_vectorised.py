@@ -61,8 +61,8 @@ def _check_arrays(theta0, theta1):
     if x0.size:
         size = float(np.max(np.abs(x0) + 2.0 * np.abs(x1)))
         if size > SIZE_LIMIT:
-            raise InputError(f"|theta0| + 2|theta1| = {_size_text(size, SIZE_LIMIT)} is too large for the "
-                             f"vectorised functions (limit {SIZE_LIMIT:g})")
+            raise InputError(f"|theta0| + 2|theta1| = {_size_text(size, SIZE_LIMIT)} is too large "
+                             f"for the vectorised functions (limit {SIZE_LIMIT:g})")
     return x0, x1
 
 
@@ -122,9 +122,10 @@ def exponent(theta0, theta1):
     about 1e-12 absolute away from the edges against 25-digit
     characteristic_exponent (tests/test_floquet_vectorised.py), up to ~1e-7
     within 1e-6 of an edge.  Deep in a gap the trace's accuracy counts: mu
-    is good to ~1e-11 relative for |theta1| up to 50, ~1e-10 up to 400.  Points the double routes cannot resolve
-    are computed one by one (~10-25 ms each) with characteristic_exponent
-    (double precision, method "hill", guard digits): a band narrower than
+    is good to ~1e-11 relative for |theta1| up to 50, ~1e-10 up to 400.
+    Points the double routes cannot resolve are computed one by one
+    (~10-25 ms each) with characteristic_exponent (double precision, method
+    "hill", guard digits): a band narrower than
     :data:`THIN_BAND` of the scale, a gap point whose edge trace is not +-1
     (:data:`EDGE_TRACE_TOL`: bands thinner than their rounding, or a trace lost
     to cancellation at theta0 << 0), and a trace that overflows (|Im lam| > ~200).
@@ -223,7 +224,7 @@ def _c_band_all(lib, kind, idx, p, absq, kc, lo, hi, out, oidx=None):
                              count.ctypes.data_as(PL))
     negR = np.zeros(G)
     L = np.zeros(G, dtype=np.int64)
-    extra, maxit = (4, 200) if kind else (2, 120)      # as _solve_groups
+    extra, maxit = _NEWTON[kind]
     for g in np.nonzero(count)[0].tolist():
         R = _shifted_rows(float(himax[g]), float(qmax[g]))
         negR[g], L[g] = float(-R), int(R) + extra
@@ -233,6 +234,12 @@ def _c_band_all(lib, kind, idx, p, absq, kc, lo, hi, out, oidx=None):
                              negR.ctypes.data_as(PD), L.ctypes.data_as(PL), maxit,
                              flat.ctypes.data_as(PD)) < 0:
         raise MemoryError("the band kernel could not allocate its work arrays")
+
+
+#: (rows beyond R, most Newton iterations) of each band route: kind 0, the
+#: inverse's eigenvalue (:func:`_band_eigen`); kind 1, the exponent (:func:`_band_nu`).
+#: The NumPy loops and the C kernel read them from here.
+_NEWTON = {0: (2, 120), 1: (4, 200)}
 
 
 def _group_order(key):
@@ -335,7 +342,7 @@ def _bands_fast_one(f0, f1):
     ne = E.shape[1]
     lib = _c_band()
     if lib is not None and ne:
-        return _c_band_count(lib, f0, qs, inv, E)
+        return _c_band_count(lib, f0, inv, E)
     # the count of edges below theta0, one column (ascending) at a time; the
     # rows are sorted, so no later column counts once one does not
     cnt = np.zeros(f0.size, dtype=np.int64)
@@ -354,7 +361,7 @@ def _bands_fast_one(f0, f1):
     return cnt, below, above
 
 
-def _c_band_count(lib, f0, qs, inv, E):
+def _c_band_count(lib, f0, inv, E):
     """(cnt, below, above) of :func:`_bands_fast` in the C kernel: per point, the
     edges of its row of E below theta0 and the two around it (the same values)."""
     import ctypes
@@ -388,8 +395,9 @@ def _band_nu(th0, q2, k, lo, hi, R, chunk=8192):
     else in NumPy (:func:`_band_nu_chunk`)."""
     lib = _c_band()
     if lib is not None:
+        extra, maxit = _NEWTON[1]
         return _c_newton(lib, 1, th0, q2, k, lo, hi, _band_nu_guess(th0, k, lo, hi), R,
-                         int(R) + 4, 200)
+                         int(R) + extra, maxit)
     return _in_chunks(_band_nu_chunk, th0, q2, k, lo, hi, R, chunk)
 
 
@@ -413,17 +421,24 @@ _ACOS_COEFFS = (1.5707963050, -0.2145988016, 0.0889789874, -0.0501743046,
                 0.0308918810, -0.0170881256, 0.0066700901, -0.0012624911)
 
 
+def _horner(coeffs, y):
+    """coeffs[0] + coeffs[1] y + ... by Horner's rule from the top, in place
+    (the operation order of the C kernel's acos_over_pi and cospi01)."""
+    r = coeffs[-1] * y
+    for c in coeffs[-2:0:-1]:
+        r += c
+        r *= y
+    r += coeffs[0]
+    return r
+
+
 def _acos_over_pi(t):
     """arccos(t)/pi to 1e-8 for an array t in [-1, 1] (:data:`_ACOS_COEFFS`; the
     operations of acos_over_pi in :data:`_BAND_C`)."""
     import numpy as np
 
     y = np.abs(t)
-    r = _ACOS_COEFFS[7] * y
-    for c in _ACOS_COEFFS[6:0:-1]:
-        r += c
-        r *= y
-    r += _ACOS_COEFFS[0]
+    r = _horner(_ACOS_COEFFS, y)
     r *= np.sqrt(1.0 - y)
     r = np.where(t >= 0.0, r, math.pi - r)
     r /= math.pi
@@ -473,7 +488,8 @@ def _band_nu_chunk(th0, q2, k, lo, hi, R):
     same operations point by point)."""
     import numpy as np
 
-    L = int(R) + 4
+    extra, maxit = _NEWTON[1]
+    L = int(R) + extra
     kf = k.astype(float)
     n0 = 2.0 * np.floor((-R - kf - 1.0) / 2.0)       # 2n of the first row, for all lam in (k, k+1)
     steps = n0[None, :] + 2.0 * np.arange(L)[:, None]  # exact even integers
@@ -483,7 +499,7 @@ def _band_nu_chunk(th0, q2, k, lo, hi, R):
     idx = np.arange(th0.size)
     live = np.ones(th0.size, dtype=bool)
     t0, e2, ka, kfa = th0, q2, k, kf
-    for _it in range(200):
+    for _it in range(maxit):
         if idx.size == 0:
             break
         la = lam[idx]
@@ -685,8 +701,9 @@ def _band_eigen(nu, q2, k, lo, hi, R, chunk=8192):
     chunks that stay in the cache (:func:`_band_eigen_chunk`)."""
     lib = _c_band()
     if lib is not None:
+        extra, maxit = _NEWTON[0]
         return _c_newton(lib, 0, nu, q2, k, lo, hi, _band_eigen_guess(nu, k, lo, hi), R,
-                         int(R) + 2, 120)
+                         int(R) + extra, maxit)
     return _in_chunks(_band_eigen_chunk, nu, q2, k, lo, hi, R, chunk)
 
 
@@ -701,12 +718,7 @@ def _cospi01(x):
     -sin(pi (x - 1/2)); the operations of cospi01 in :data:`_BAND_C`)."""
     z = x - 0.5
     z *= math.pi
-    t = z * z
-    r = _SIN_COEFFS[7] * t
-    for c in _SIN_COEFFS[6:0:-1]:
-        r += c
-        r *= t
-    r += _SIN_COEFFS[0]
+    r = _horner(_SIN_COEFFS, z * z)
     r *= z
     return -r
 
@@ -751,7 +763,8 @@ def _band_eigen_chunk(nu, q2, k, lo, hi, R):
     the same operations point by point)."""
     import numpy as np
 
-    L = int(R) + 2
+    extra, maxit = _NEWTON[0]
+    L = int(R) + extra
     # diagonal m^2, m = 2n + nu with one rounding (the row n = 0 is nu itself)
     n0 = 2.0 * np.floor((-R - nu) / 2.0)                # 2n of the first row
     D = ((n0[None, :] + 2.0 * np.arange(L)[:, None]) + nu[None, :]) ** 2
@@ -761,7 +774,7 @@ def _band_eigen_chunk(nu, q2, k, lo, hi, R):
     idx = np.arange(nu.size)        # the points still iterating (columns of D)
     live = np.ones(nu.size, dtype=bool)
     e2, ka, la, ha = q2, k, lo, hi
-    for _it in range(120):
+    for _it in range(maxit):
         if idx.size == 0:
             break
         xa = x[idx]
