@@ -72,8 +72,16 @@ def test_ctrl_c_during_a_build_is_one_line(tmp_path, jobs):
     import os
     import signal
     import time
-    from pathlib import Path
-    scenes = Path(__file__).resolve().parents[1] / "derivations"
+    # two scenes that each compute for about 10 s (a 25 x 25 map on the NumPy integrator), so
+    # that the build is surely still running when the signal comes, however fast the machine
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    for name in ("slow-a", "slow-b"):
+        (scenes / f"{name}.toml").write_text(
+            f'name = "{name}"\nsystem = "kapitza"\n[parameters]\nbody = "rod"\n'
+            '[products.experiments]\nmaps = ["text"]\ngrid = 25\nperiods = 300\n'
+            'criteria = ["mean"]\nfig5 = false\nfig2 = false\nfigures = false\n'
+            'backend = "numpy"\n')
     env = dict(os.environ, PENDULAB_JOBS=jobs)
     p = subprocess.Popen([sys.executable, "-m", "pendulab", "build", str(scenes), "--force",
                           "--out", str(tmp_path / "out")], stderr=subprocess.PIPE, text=True,

@@ -1,5 +1,3 @@
-import sys
+from pendulab.cli import console
 
-from pendulab.cli import main
-
-sys.exit(main())
+console()

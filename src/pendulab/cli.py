@@ -156,5 +156,27 @@ def main(argv=None):
         return 130
 
 
+def console(argv=None):
+    """The ``pendulab`` command: :func:`main`, then exit at once with its status.
+
+    A build leaves a large heap (SymPy's caches, matplotlib, NumPy arrays);
+    tearing it down object by object takes a quarter of a second that
+    nobody waits for, so the process ends with ``os._exit`` once standard
+    output and standard error are flushed.  Everything the command writes is
+    closed before :func:`main` returns (outputs are published by rename,
+    the lock released), and no pendulab code relies on exit handlers.  An
+    exception that :func:`main` lets through (a bug: a traceback) takes the
+    ordinary exit.
+    """
+    import os
+    status = main(argv)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe (pendulab ... | head)
+            status = status or 1
+    os._exit(status)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    console()
