@@ -551,6 +551,48 @@ def test_a_worker_that_dies_is_replaced_by_the_parent(tmp_path, monkeypatch):
     assert (out / "b" / "equations.json").exists()
 
 
+MANY = {"m.toml": 'system = "kapitza"\n[parameters]\nbody = "rod"\n[products.equations]\n'
+                   '[products.kernels]\n[products.series]\norder = 4\n'
+                   '[products.stability]\npoints = 3\nmax_ratio = "1/2"\nmethods = ["eq28"]\n'
+                   'figure = false\n',
+        "v.toml": 'system = "variable-length"\n[products.equations]\n[products.kernels]\n'}
+
+
+def test_products_of_one_scene_in_several_processes_give_the_serial_bytes(tmp_path):
+    """Products, not scenes, are shared out: one scene's products computed by two processes
+    give the files and the stages of a serial build."""
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    for name, text in MANY.items():
+        _write(scenes, text, name)
+    trees, logs = {}, {}
+    for jobs in (1, 2, 4):
+        out = tmp_path / f"out{jobs}"
+        lines = []
+        assert build(scenes, out, log=lines.append, jobs=jobs) == {"m": "built", "v": "built"}
+        trees[jobs] = {str(p.relative_to(out)): p.read_bytes() for p in out.rglob("*") if p.is_file()}
+        logs[jobs] = [line.replace(str(out), "OUT") for line in lines]
+    assert trees[1] == trees[2] == trees[4]
+    assert logs[1] == logs[2] == logs[4]
+    assert any("stages: system, equations, canonical" in line for line in logs[1])
+
+
+def test_two_products_writing_one_file_in_two_processes_is_the_serial_error(tmp_path, monkeypatch):
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    _write(scenes, MANY["m.toml"], "m.toml")
+    from pendulab.products import kernels
+    monkeypatch.setattr(kernels, "produce", lambda ctx, options: {"series.json": "{}"})
+    messages = []
+    for jobs in (1, 2):
+        with pytest.raises(SceneError) as info:
+            build(scenes, tmp_path / "out", log=lambda m: None, jobs=jobs)
+        messages.append(str(info.value))
+    assert messages[0] == messages[1]
+    assert messages[0].endswith("product 'series' writes 'series.json', which another product writes")
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.parametrize("value", ["0", "-1", "two", "1.5", "65"])
 def test_bad_jobs_is_a_one_line_error(tmp_path, monkeypatch, capsys, value):
     from pendulab.build import job_count

@@ -234,77 +234,128 @@ def job_count(jobs=None):
     return value
 
 
-def compute_scenes(scenes, jobs=1):
-    """[(files, stages that ran)] of every scene, in order; the scenes side by side in ``jobs`` processes.
+#: Relative cost of a product in the committed scenes (CPU of the main job), used only to
+#: start the dearest products first so that the processes finish together; any order gives
+#: the same files.  Products not listed weigh 1.
+WEIGHTS = {"experiments": 10, "motion": 4, "stability": 3, "bessel": 2, "series": 1, "floquet": 1,
+           "kernels": 1, "equations": 0.5, "quarter_periods": 0.5}
 
-    The outputs do not depend on ``jobs``: each scene is computed by the same
-    code from the same inputs, whichever process runs it.  With ``jobs`` > 1
-    and more than one scene (and ``fork`` available), the derivations that
-    several scenes share (same :func:`pendulab.equations.derivation_key`) are
-    done here first, and so are the imports of the heavy modules that the
-    products of several scenes declare (``preload(options)`` of a product
-    module: matplotlib, scipy.integrate), so that the worker processes,
-    forked afterwards, inherit them; each worker then takes the next scene in
-    order.  A scene that fails in a worker (or whose worker dies) is computed
-    again in this process, in order, so that the error is the one a serial
-    build reports (one line naming the scene file and the product) and
-    nothing is published.
+
+def compute_scenes(scenes, jobs=1):
+    """[(files, stages that ran)] of every scene, in order; the products side by side in ``jobs`` processes.
+
+    The outputs do not depend on ``jobs``: each product is computed by the same
+    code from the same inputs, whichever process runs it.  With ``jobs`` > 1,
+    two or more products in all and ``fork`` available:
+
+    * the derivations that several scenes share (same
+      :func:`pendulab.equations.derivation_key`) are done here first, and so
+      are the imports of the heavy modules that the products of several
+      scenes declare (``preload(options)`` of a product module: matplotlib,
+      scipy.integrate);
+    * then ``jobs`` - 1 worker processes are forked (they inherit both), and
+      this process and the workers take the products one at a time, dearest
+      first (:data:`WEIGHTS`), from one shared counter; a process keeps the
+      stages of the scenes it has worked on, so a scene's products that land
+      in one process share them;
+    * a scene whose products did not all succeed (an error, a worker that
+      died) is computed again here, in order, after the scenes before it, so
+      that the error is the one a serial build reports (one line naming the
+      scene file and the product) and nothing is published.  After the first
+      error no process starts another product.
     """
     if not scenes:
         return []
     import multiprocessing as mp
-    if jobs <= 1 or len(scenes) < 2 or "fork" not in mp.get_all_start_methods():
+
+    from pendulab.pipeline import STAGES, merge_files
+    tasks = [(i, name) for i, sc in enumerate(scenes) for name in sorted(sc.products)]
+    if jobs <= 1 or len(tasks) < 2 or "fork" not in mp.get_all_start_methods():
         return [_run_serial(sc) for sc in scenes]
     _share_derivations(scenes)
     _preload(scenes)
-    import concurrent.futures as cf
-    global _PENDING
-    _PENDING = list(scenes)
-    out = []
-    pool = cf.ProcessPoolExecutor(max_workers=min(jobs, len(scenes)), mp_context=mp.get_context("fork"))
-    futures = []
-    finished = False
+    tasks.sort(key=lambda t: -WEIGHTS.get(t[1], 1))  # stable: scene order within a weight
+    fork = mp.get_context("fork")
+    state = _Shared(fork.Value("i", 0), fork.Value("b", 0))
+    workers = []
+    done = {}
     try:
-        futures = [pool.submit(_run_in_worker, i) for i in range(len(scenes))]
-        for sc, future in zip(scenes, futures):
+        for _ in range(min(jobs, len(tasks)) - 1):
+            receive, send = fork.Pipe(duplex=False)
+            proc = fork.Process(target=_worker, args=(scenes, tasks, state, send), daemon=True)
+            proc.start()
+            send.close()
+            workers.append((proc, receive))
+        done.update(_take_products(scenes, tasks, state))
+        for proc, receive in workers:
             try:
-                result = future.result()
-            except Exception:  # a worker that died (killed, out of memory), or a stopped pool
-                result = None
-            if result is None:
-                _stop(pool, futures)
-                result = _run_serial(sc)  # raises the scene's own error, as a serial build does
-            out.append(result)
-        finished = True
+                done.update(receive.recv())
+            except (EOFError, OSError):
+                pass  # the worker died (killed, out of memory): its products are computed here
+            proc.join()
     finally:
-        if not finished:  # an error, or Ctrl-C: no worker goes on computing
-            _stop(pool, futures)
-        pool.shutdown(wait=True, cancel_futures=True)
-        _PENDING = []
+        for proc, receive in workers:  # an error here, or Ctrl-C: no worker goes on computing
+            if proc.is_alive():
+                proc.terminate()
+            proc.join()
+            receive.close()
+    out = []
+    for i, sc in enumerate(scenes):
+        mine = [k for k, (j, _) in enumerate(tasks) if j == i]
+        try:
+            if any(done.get(k) is None for k in mine):
+                raise LookupError
+            mine.sort(key=lambda k: tasks[k][1])
+            files = merge_files([(tasks[k][1], done[k][0]) for k in mine])
+        except (LookupError, PendulabError):
+            out.append(_run_serial(sc))  # raises the scene's own error, as a serial build does
+            continue
+        ran = set().union(*(done[k][1] for k in mine))
+        out.append((files, [name for name in STAGES if name in ran]))
     return out
 
 
-def _stop(pool, futures):
-    """Cancel what has not started and end the workers (their scenes are computed here instead)."""
-    for f in futures:
-        f.cancel()
-    for proc in list((getattr(pool, "_processes", None) or {}).values()):
+class _Shared:
+    """The counter of the next product to take and the flag that stops taking (shared memory)."""
+
+    def __init__(self, next_task, stop):
+        self.next_task, self.stop = next_task, stop
+
+
+def _take_products(scenes, tasks, state):
+    """{task index: (files, stages of its scene that ran in this process) or None (failed)}
+    of the products this process takes until none is left or one has failed."""
+    from pendulab.pipeline import Context, run_product
+    contexts, done = {}, {}
+    while not state.stop.value:
+        with state.next_task.get_lock():
+            k = state.next_task.value
+            if k >= len(tasks):
+                break
+            state.next_task.value = k + 1
+        i, name = tasks[k]
         try:
-            proc.terminate()
-        except (OSError, AttributeError):
-            pass
+            ctx = contexts.setdefault(i, Context(scenes[i]))
+            done[k] = (run_product(ctx, name), list(ctx.ran))
+        except Exception:  # reported by the serial run of its scene
+            done[k] = None
+            state.stop.value = 1
+    return done
 
 
-#: The scenes of compute_scenes, read by the forked workers (never pickled).
-_PENDING = []
-
-
-def _run_in_worker(index):
-    """(files, stages) of _PENDING[index], or None when it fails (the parent reports the error)."""
+def _worker(scenes, tasks, state, send):
+    """A forked worker: take products, send what they gave, end without tearing down."""
+    import signal
+    status = 1
     try:
-        return _run_serial(_PENDING[index])
-    except Exception:
-        return None
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent stops the workers itself
+        send.send(_take_products(scenes, tasks, state))
+        send.close()
+        status = 0
+    except BaseException:  # noqa: B036 (nothing may print here; the parent recomputes)
+        pass
+    finally:
+        os._exit(status)
 
 
 def _run_serial(scene):

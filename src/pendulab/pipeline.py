@@ -130,19 +130,33 @@ class Context:
         return self._values[name]
 
 
-def run_products(scene):
-    """Compute every product ``scene`` asks for; return ({file: text}, context)."""
-    ctx = Context(scene)
+def run_product(ctx, name):
+    """{file: text} of the product ``name`` of ``ctx.scene`` (its stages from ``ctx``)."""
+    module = product_module(name)
+    try:
+        return module.produce(ctx, ctx.scene.products[name])
+    except PendulabError as exc:
+        exc.product = name  # pendulab.build names it in the one-line error
+        raise
+
+
+def merge_files(parts):
+    """One {file: text} of the [(product name, {file: text})] of a scene, in that order; an
+    InputError when two products write one file (or one writes the manifest)."""
     files = {}
-    for name in sorted(scene.products):
-        module = product_module(name)
-        try:
-            produced = module.produce(ctx, scene.products[name])
-        except PendulabError as exc:
-            exc.product = name  # pendulab.build names it in the one-line error
-            raise
+    for name, produced in parts:
         for fname, text in produced.items():
             if fname in files or fname == "manifest.json":
                 raise InputError(f"product {name!r} writes {fname!r}, which another product writes")
             files[fname] = text
-    return files, ctx
+    return files
+
+
+def run_products(scene):
+    """Compute every product ``scene`` asks for; return ({file: text}, context)."""
+    ctx = Context(scene)
+    parts = []
+    for name in sorted(scene.products):
+        parts.append((name, run_product(ctx, name)))
+        merge_files(parts)  # a clash is reported before the next product computes
+    return merge_files(parts), ctx
