@@ -320,6 +320,8 @@ def _values(table, system, problems):
     if not isinstance(table, dict):
         problems.add("values", "must be a table of numbers, e.g. l = 0.05")
         return {}
+    if not table:
+        return {}  # nothing to check against the system's symbols (which cost its Lagrangian)
     known = set().union(*(sp.sympify(e).free_symbols for e in (
         system.lagrangian, getattr(system, "drive", 0), getattr(system, "length", 0),
         getattr(system, "mass", 0))))
