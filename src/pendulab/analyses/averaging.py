@@ -132,17 +132,23 @@ def sin_split():
 
 def period_average(expr):
     """<f> = (1/T) int_0^T f dt with T = 2 pi/omega (000, footnote 1 of sec. 2.3)."""
-    # A polynomial in cos(omega t), sin(omega t) (every torque here) is a Laurent
-    # polynomial in z = e^{i omega t}; its mean over a period is the z^0 coefficient
-    # (the mean of e^{i k omega t} is 0 for k != 0).  Anything else is integrated.
+    return sp.simplify(_mean(expr))
+
+
+def _mean(expr):
+    """The period mean of :func:`period_average`, not simplified.
+
+    A polynomial in cos(omega t), sin(omega t) (every torque here) is a Laurent
+    polynomial in z = e^{i omega t}; its mean over a period is the z^0 coefficient
+    (the mean of e^{i k omega t} is 0 for k != 0).  Anything else is integrated."""
     z = sp.Symbol("z_", positive=True)
     wt = S.omega * S.t
     e = sp.expand(sp.expand(expr).subs({sp.cos(wt): (z + 1 / z) / 2,
                                         sp.sin(wt): (z - 1 / z) / (2 * sp.I)}))
     if not e.has(S.t):
-        return sp.simplify(sp.Add(*[term for term in sp.Add.make_args(e) if not term.has(z)]))
+        return sp.Add(*[term for term in sp.Add.make_args(e) if not term.has(z)])
     period = 2 * sp.pi / S.omega
-    return sp.simplify(sp.integrate(sp.expand(expr), (S.t, 0, period)) / period)
+    return sp.integrate(sp.expand(expr), (S.t, 0, period)) / period
 
 
 @functools.lru_cache(maxsize=None)
@@ -161,8 +167,8 @@ def _averaged(inertia):
         "delta": d,
         "inertial_instantaneous": sp.expand(tau_i),
         "gravitational_instantaneous": sp.expand(tau_g),
-        "inertial": sp.factor(sp.trigsimp(period_average(tau_i))),
-        "gravitational": sp.factor(period_average(tau_g)),
+        "inertial": sp.factor(sp.trigsimp(_mean(tau_i))),
+        "gravitational": sp.factor(sp.trigsimp(_mean(tau_g))),
     }
 
 
