@@ -49,8 +49,8 @@ FINE = 301
 #: Points of omega0/omega at which the eq. 28 curves of the figures are computed.
 CURVE = 41
 
-LABELS = {"mean": r"$|\langle\theta\rangle| < 0.1$", "mean-abs": r"$\langle|\theta|\rangle < 0.1$",
-          "bounded": r"$|\theta| < \pi/2$", "floquet": "Floquet (linear)"}
+#: Panel titles of the maps, plain Unicode text (DejaVu Sans has the glyphs; no mathtext parse per figure).
+LABELS = {"mean": "|⟨θ⟩| < 0.1", "mean-abs": "⟨|θ|⟩ < 0.1", "bounded": "|θ| < π/2", "floquet": "Floquet (linear)"}
 
 
 def _round(v):
@@ -266,11 +266,11 @@ def figure_map(m, limits, title):
                 ax.add_line(Line2D([], [], ls="--", color="C0", lw=1.0, label="exact (Floquet)"))
                 ax.set_xlim(0, 1)
                 ax.set_ylim(0, 1)
-                ax.set_title(f"{LABELS[c]}: {m['counts'][c]} stable")
+                ax.set_title(y=1.0, label=f"{LABELS[c]}: {m['counts'][c]} stable")
                 if k // ncol == nrow - 1:
-                    ax.set_xlabel(r"$a/l$")
+                    ax.set_xlabel("a/l")
                 if k % ncol == 0:
-                    ax.set_ylabel(r"$\omega_0/\omega$")
+                    ax.set_ylabel("ω₀/ω")
             axes[0][0].legend(loc="upper left", frameon=False)
             for k in range(len(crits), nrow * ncol):
                 axes[k // ncol][k % ncol].set_visible(False)
@@ -299,7 +299,7 @@ def figure_fig5(r):
                 ax2.semilogy(tau, np.abs(th - r["theta"]) + 1e-18, styles[k % 3], color=f"C{3 + k}", lw=0.8,
                              label=f"order {n}: max {r['error'][n]:.1e}")
             ax.set_ylabel(r"$\theta(\tau)$")
-            ax.set_title(rf"$a/l = 1/5$, $\omega_0/\omega = 1/20$, $\theta(0) = {r['theta'][0]:g}$, "
+            ax.set_title(y=1.0, label=rf"$a/l = 1/5$, $\omega_0/\omega = 1/20$, $\theta(0) = {r['theta'][0]:g}$, "
                          rf"$\dot\theta(0) = 0.01$ ($\theta_0 = {r['theta0']:.3g}$, $\theta_1 = {r['theta1']:.3g}$)")
             ax.legend(loc="lower left", frameon=False)
             ax2.set_xlabel(r"$\tau$")
@@ -325,7 +325,7 @@ def figure_fig2(r):
             ax2.plot(tau, r["pivot"], ":", color="0.3", lw=0.6, label=r"pivot $y_0/a$")
             ax2.set_ylabel(r"pivot $y_0/a$")
             ax2.set_ylim(-6, 6)
-            ax.set_title(rf"$\theta_0 = {r['theta0']:g}$, $\theta_1 = {r['theta1']:g}$, "
+            ax.set_title(y=1.0, label=rf"$\theta_0 = {r['theta0']:g}$, $\theta_1 = {r['theta1']:g}$, "
                          rf"$\theta(0) = {r['theta'][0]:g}$, $\dot\theta(0) = 0$")
             h1, l1 = ax.get_legend_handles_labels()
             h2, l2 = ax2.get_legend_handles_labels()
