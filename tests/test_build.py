@@ -510,6 +510,16 @@ def test_scenes_in_worker_processes_give_the_serial_bytes(tmp_path):
     assert len(trees[1]) == 3 * 3 + 1  # equations.json, .tex, manifest.json per scene; the lock file
 
 
+def _errors_serial_and_parallel(scenes, out):
+    """The SceneError messages of building ``scenes`` into ``out`` with jobs 1 and 2."""
+    messages = []
+    for jobs in (1, 2):
+        with pytest.raises(SceneError) as info:
+            build(scenes, out, log=lambda m: None, jobs=jobs)
+        messages.append(str(info.value))
+    return messages
+
+
 def test_an_error_in_a_worker_is_the_serial_one_line_error(tmp_path, monkeypatch):
     """The failing scene is computed again in the parent: the same SceneError as a serial build
     (file and product named), the first failing scene in order, nothing written."""
@@ -523,11 +533,7 @@ def test_an_error_in_a_worker_is_the_serial_one_line_error(tmp_path, monkeypatch
             raise InputError(f"cannot do {ctx.scene.name}")
         return real(ctx, options)
     monkeypatch.setattr(equations, "produce", fails)
-    messages = []
-    for jobs in (1, 2):
-        with pytest.raises(SceneError) as info:
-            build(scenes, tmp_path / "out", log=lambda m: None, jobs=jobs)
-        messages.append(str(info.value))
+    messages = _errors_serial_and_parallel(scenes, tmp_path / "out")
     assert messages[0] == messages[1]
     assert messages[0] == f"{scenes / 'b.toml'}: products.equations: cannot do b"
     assert not (tmp_path / "out").exists()
@@ -583,11 +589,7 @@ def test_two_products_writing_one_file_in_two_processes_is_the_serial_error(tmp_
     _write(scenes, MANY["m.toml"], "m.toml")
     from pendulab.products import kernels
     monkeypatch.setattr(kernels, "produce", lambda ctx, options: {"series.json": "{}"})
-    messages = []
-    for jobs in (1, 2):
-        with pytest.raises(SceneError) as info:
-            build(scenes, tmp_path / "out", log=lambda m: None, jobs=jobs)
-        messages.append(str(info.value))
+    messages = _errors_serial_and_parallel(scenes, tmp_path / "out")
     assert messages[0] == messages[1]
     assert messages[0].endswith("product 'series' writes 'series.json', which another product writes")
     assert not (tmp_path / "out").exists()

@@ -140,23 +140,28 @@ def run_product(ctx, name):
         raise
 
 
+def add_files(files, name, produced):
+    """Add the {file: text} that product ``name`` ``produced`` to ``files``; an InputError
+    when one of them is already there (another product wrote it) or is the manifest."""
+    for fname, text in produced.items():
+        if fname in files or fname == "manifest.json":
+            raise InputError(f"product {name!r} writes {fname!r}, which another product writes")
+        files[fname] = text
+
+
 def merge_files(parts):
-    """One {file: text} of the [(product name, {file: text})] of a scene, in that order; an
-    InputError when two products write one file (or one writes the manifest)."""
+    """One {file: text} of the [(product name, {file: text})] of a scene, in that order
+    (:func:`add_files` for each)."""
     files = {}
     for name, produced in parts:
-        for fname, text in produced.items():
-            if fname in files or fname == "manifest.json":
-                raise InputError(f"product {name!r} writes {fname!r}, which another product writes")
-            files[fname] = text
+        add_files(files, name, produced)
     return files
 
 
 def run_products(scene):
     """Compute every product ``scene`` asks for; return ({file: text}, context)."""
     ctx = Context(scene)
-    parts = []
+    files = {}
     for name in sorted(scene.products):
-        parts.append((name, run_product(ctx, name)))
-        merge_files(parts)  # a clash is reported before the next product computes
-    return merge_files(parts), ctx
+        add_files(files, name, run_product(ctx, name))  # a clash stops before the next product
+    return files, ctx
