@@ -234,11 +234,18 @@ def job_count(jobs=None):
     return value
 
 
-#: Relative cost of a product in the committed scenes (CPU of the main job), used only to
-#: start the dearest products first so that the processes finish together; any order gives
-#: the same files.  Products not listed weigh 1.
-WEIGHTS = {"experiments": 10, "motion": 4, "stability": 3, "bessel": 2, "series": 1, "floquet": 1,
-           "kernels": 1, "equations": 0.5, "quarter_periods": 0.5}
+#: Relative cost of a product, or of one part of a product made in parts ("product:part"),
+#: in the committed scenes (CPU of the main job), used only to start the dearest first so
+#: that the processes finish together; any order gives the same files.  Not listed: 1.
+WEIGHTS = {"experiments:map:text": 6, "experiments:map:caption": 5, "experiments:map:fig4": 4,
+           "experiments:fig5": 6, "experiments:fig2": 4, "experiments:first": 10,
+           "experiments:summary": 2, "motion": 10, "stability": 6, "bessel": 4, "series": 1,
+           "floquet": 1, "kernels": 1, "equations": 0.5, "quarter_periods": 0.5}
+
+
+def _weight(task):
+    _, name, part = task
+    return WEIGHTS.get(name if part is None else f"{name}:{part}", 1)
 
 
 def compute_scenes(scenes, jobs=1):
@@ -254,10 +261,13 @@ def compute_scenes(scenes, jobs=1):
       scenes declare (``preload(options)`` of a product module: matplotlib,
       scipy.integrate);
     * then ``jobs`` - 1 worker processes are forked (they inherit both), and
-      this process and the workers take the products one at a time, dearest
-      first (:data:`WEIGHTS`), from one shared counter; a process keeps the
-      stages of the scenes it has worked on, so a scene's products that land
-      in one process share them;
+      this process and the workers take the tasks one at a time, dearest
+      first (:data:`WEIGHTS`), from one shared counter: a task is a product,
+      or one part of a product that is made in parts
+      (:func:`pendulab.pipeline.product_parts`; the experiments' maps and
+      figures), whose results this process assembles at the end; a process
+      keeps the stages of the scenes it has worked on, so a scene's tasks
+      that land in one process share them;
     * a scene whose products did not all succeed (an error, a worker that
       died) is computed again here, in order, after the scenes before it, so
       that the error is the one a serial build reports (one line naming the
@@ -268,13 +278,17 @@ def compute_scenes(scenes, jobs=1):
         return []
     import multiprocessing as mp
 
-    from pendulab.pipeline import STAGES, merge_files
-    tasks = [(i, name) for i, sc in enumerate(scenes) for name in sorted(sc.products)]
+    from pendulab.pipeline import STAGES, finish_product, merge_files, product_parts
+    try:
+        tasks = [(i, name, part) for i, sc in enumerate(scenes) for name in sorted(sc.products)
+                 for part in product_parts(name, sc.products[name])]
+    except PendulabError:
+        tasks = []  # the serial run reports it
     if jobs <= 1 or len(tasks) < 2 or "fork" not in mp.get_all_start_methods():
         return [_run_serial(sc) for sc in scenes]
     _share_derivations(scenes)
     _preload(scenes)
-    tasks.sort(key=lambda t: -WEIGHTS.get(t[1], 1))  # stable: scene order within a weight
+    tasks.sort(key=lambda t: -_weight(t))  # stable: scene order within a weight
     fork = mp.get_context("fork")
     state = _Shared(fork.Value("i", 0), fork.Value("b", 0))
     workers = []
@@ -301,12 +315,15 @@ def compute_scenes(scenes, jobs=1):
             receive.close()
     out = []
     for i, sc in enumerate(scenes):
-        mine = [k for k, (j, _) in enumerate(tasks) if j == i]
+        mine = [k for k, (j, _, _) in enumerate(tasks) if j == i]
         try:
             if any(done.get(k) is None for k in mine):
                 raise LookupError
-            mine.sort(key=lambda k: tasks[k][1])
-            files = merge_files([(tasks[k][1], done[k][0]) for k in mine])
+            results = {}
+            for k in mine:
+                results.setdefault(tasks[k][1], {})[tasks[k][2]] = done[k][0]
+            files = merge_files([(name, finish_product(sc, name, results[name]))
+                                 for name in sorted(results)])
         except (LookupError, PendulabError):
             out.append(_run_serial(sc))  # raises the scene's own error, as a serial build does
             continue
@@ -323,9 +340,10 @@ class _Shared:
 
 
 def _take_products(scenes, tasks, state):
-    """{task index: (files, stages of its scene that ran in this process) or None (failed)}
-    of the products this process takes until none is left or one has failed."""
-    from pendulab.pipeline import Context, run_product
+    """{task index: (result, stages of its scene that ran in this process) or None (failed)}
+    of the products and parts of products this process takes until none is left or one
+    has failed (a product's result is its {file: text}, a part's what the part gives)."""
+    from pendulab.pipeline import Context, run_part
     contexts, done = {}, {}
     while not state.stop.value:
         with state.next_task.get_lock():
@@ -333,10 +351,10 @@ def _take_products(scenes, tasks, state):
             if k >= len(tasks):
                 break
             state.next_task.value = k + 1
-        i, name = tasks[k]
+        i, name, part = tasks[k]
         try:
             ctx = contexts.setdefault(i, Context(scenes[i]))
-            done[k] = (run_product(ctx, name), list(ctx.ran))
+            done[k] = (run_part(ctx, name, part), list(ctx.ran))
         except Exception:  # reported by the serial run of its scene
             done[k] = None
             state.stop.value = 1

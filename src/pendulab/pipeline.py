@@ -114,12 +114,17 @@ STAGES = {
 
 
 class Context:
-    """Lazily computed stages of one scene."""
+    """Lazily computed stages of one scene.
+
+    ``memo`` is a scratch dict for the products of the scene: what two parts of
+    one product both need (see :func:`run_part`) is computed once per process.
+    """
 
     def __init__(self, scene):
         self.scene = scene
         self._values = {}
         self.ran = []
+        self.memo = {}
 
     def get(self, name):
         if name not in STAGES:
@@ -130,14 +135,56 @@ class Context:
         return self._values[name]
 
 
-def run_product(ctx, name):
-    """{file: text} of the product ``name`` of ``ctx.scene`` (its stages from ``ctx``)."""
+# ---------------------------------------------------------------------------
+# products, whole or in parts
+# ---------------------------------------------------------------------------
+#
+# A product module defines ``produce(ctx, options) -> {file: text or bytes}``.
+# A dear one may also define
+#
+#   parts(options)                          -> [part name, ...]   (no computation)
+#   produce_part(ctx, options, part)        -> a picklable result
+#   assemble(scene, options, {part: result}) -> {file: text or bytes}
+#
+# so that ``pendulab build`` can compute its parts in different processes; its
+# ``produce`` must give the same files as assembling its parts computed in
+# order (then the files cannot depend on where the parts ran).
+
+
+def product_parts(name, options):
+    """The part names of product ``name`` with ``options``; [None] for a product made whole."""
+    parts = getattr(product_module(name), "parts", None)
+    return [None] if parts is None else list(parts(options))
+
+
+def run_part(ctx, name, part):
+    """The result of one part of product ``name`` of ``ctx.scene`` (part None: the whole
+    product's {file: text}); an error carries the product's name."""
     module = product_module(name)
+    options = ctx.scene.products[name]
     try:
-        return module.produce(ctx, ctx.scene.products[name])
+        if part is None:
+            return module.produce(ctx, options)
+        return module.produce_part(ctx, options, part)
     except PendulabError as exc:
         exc.product = name  # pendulab.build names it in the one-line error
         raise
+
+
+def finish_product(scene, name, results):
+    """{file: text} of product ``name`` from {part: result} of every one of its parts."""
+    if list(results) == [None]:
+        return results[None]
+    try:
+        return product_module(name).assemble(scene, scene.products[name], results)
+    except PendulabError as exc:
+        exc.product = name
+        raise
+
+
+def run_product(ctx, name):
+    """{file: text} of the product ``name`` of ``ctx.scene`` (its stages from ``ctx``)."""
+    return run_part(ctx, name, None)
 
 
 def add_files(files, name, produced):

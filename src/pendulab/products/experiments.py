@@ -112,57 +112,124 @@ def check_options(options):
         raise InputError("; ".join(problems))
 
 
-def compute(spec, options):
-    """Every number of the product (no figures): a dict of results (NumPy arrays inside)."""
+def parts(options):
+    """The parts that :func:`pendulab.build.compute_scenes` may compute in different processes:
+    one per map ("map:<name>", with its figure), "summary" (the body, I/(m l^2) and the
+    limits of a/l on the map grid), "first", "fig5" and "fig2" (each with its figure)."""
+    return ([f"map:{name}" for name in options["maps"]] + ["summary"]
+            + [k for k, on in (("first", options["first_experiment"]), ("fig5", options["fig5"]),
+                               ("fig2", options["fig2"])) if on])
+
+
+def _prepared(ctx, options):
+    """(spec, mathieu, sweep keywords) of the scene, after every check of the options;
+    made once per process and scene (``ctx.memo``)."""
+    key = "experiments:prepared"
+    if key not in ctx.memo:
+        check_options(options)
+        spec = system_spec(ctx)
+        mathieu = _sweep()._stages(spec)[1].kind == "mathieu"
+        if not mathieu:
+            # a Hill drive: the Floquet verdict is the monodromy matrix's; eq. 28, the exact
+            # limits of pendulab.analyses.stability and the series of Fig. 5 are Mathieu's
+            wanted = [k for k in ("fig5", "fig2") if options[k]]
+            if wanted:
+                raise InputError(f"{' and '.join(wanted)}: the drive gives a Hill equation, and "
+                                 f"{'they need' if len(wanted) > 1 else 'it needs'} Mathieu's "
+                                 f"(theta0, theta1): set {' and '.join(k + ' = false' for k in wanted)}")
+        kw = {"backend": options["backend"], "quiet": True}
+        if options["dask"]:
+            kw["dask"] = options["dask"]
+        ctx.memo[key] = (spec, mathieu, kw)
+    return ctx.memo[key]
+
+
+def _sweep():
+    from pendulab.numerics import sweep
+    return sweep
+
+
+def _fine(ctx, spec, mathieu, w):
+    """What the map figures draw under the cells (once per process and scene): for Mathieu's
+    equation the eq. 28 curves on CURVE points and the Floquet region on FINE x FINE points;
+    for a Hill drive the Floquet (monodromy) region on the map's own grid ``w``."""
     from pendulab.numerics import experiments as E
-    kw = {"backend": options["backend"], "quiet": True}
-    if options["dask"]:
-        kw["dask"] = options["dask"]
-    out = {"maps": {}, "limits": None}
-    mathieu = E.S._stages(spec)[1].kind == "mathieu"
-    if not mathieu:
-        # a Hill drive: the Floquet verdict is the monodromy matrix's; eq. 28, the exact limits
-        # of pendulab.analyses.stability and the series of Fig. 5 are Mathieu's equation's
-        wanted = [k for k in ("fig5", "fig2") if options[k]]
-        if wanted:
-            raise InputError(f"{' and '.join(wanted)}: the drive gives a Hill equation, and "
-                             f"{'they need' if len(wanted) > 1 else 'it needs'} Mathieu's "
-                             f"(theta0, theta1): set {' and '.join(k + ' = false' for k in wanted)}")
-    for name in options["maps"]:
-        out["maps"][name] = E.stability_maps(spec, options["grid"], E.INITIAL[name], options["periods"],
-                                             options["steps_per_period"], tuple(options["criteria"]),
-                                             prune=options["prune"], **kw)
-    if out["maps"] and not mathieu:
-        w = next(iter(out["maps"].values()))["w0_over_w"]
-        if options["figures"]:
-            # no limit curves; the shaded region is the Floquet map on the map's own grid
-            out["fine"] = {"w0_over_w": w, "curves": {}, "region_values": w,
-                           "region": E.floquet_region(spec, w)}
-    elif out["maps"]:
-        w = next(iter(out["maps"].values()))["w0_over_w"]
-        out["limits"] = {"w0_over_w": w, "curves": E.limit_curves(spec, w)}
-        if options["figures"]:
-            # the curves and the shaded Floquet region are drawn finer than the map
-            # (eq. 28 on CURVE points; the exact boundary is the edge of the fine Floquet region)
+    key = "experiments:fine"
+    if key not in ctx.memo:
+        if mathieu:
             fine = E.S.linspace_grid(FINE)
             w21 = E.S.linspace_grid(CURVE)
-            out["fine"] = {"w0_over_w": w21, "curves": E.limit_curves(spec, w21, ("eq28",)),
-                           "region_values": fine, "region": E.floquet_region(spec, fine)}
-    if options["first_experiment"]:
-        out["first"] = E.first_experiment(spec, options["first_grid"], options["first_convention"],
-                                          options["periods"], options["steps_per_period"], **kw)
-    if options["fig5"]:
-        out["fig5"] = E.fig5(spec, periods=options["fig5_periods"], orders=tuple(options["fig5_orders"]),
-                             backend=options["backend"])
-    if options["fig2"]:
-        out["fig2"] = E.fig2(spec, periods=options["fig2_periods"], backend=options["backend"])
-    return out
+            ctx.memo[key] = {"w0_over_w": w21, "curves": E.limit_curves(spec, w21, ("eq28",)),
+                             "region_values": fine, "region": E.floquet_region(spec, fine)}
+        else:
+            ctx.memo[key] = {"w0_over_w": w, "curves": {}, "region_values": w,
+                             "region": E.floquet_region(spec, w)}
+    return ctx.memo[key]
 
 
-def document(results, options, scene_name, spec):
-    from pendulab.numerics.experiments import INITIAL, SOURCE_COUNTS, inertia_ratio
+def produce_part(ctx, options, part):
+    """The result of one part (see :func:`parts`): its numbers and, with figures on, the
+    {file name: bytes} of its figure under "files"."""
+    from pendulab.errors import SceneError
+    try:
+        return _part(ctx, options, part)
+    except InputError as exc:
+        raise SceneError(ctx.scene.path, "products.experiments", str(exc)) from None
+
+
+def _part(ctx, options, part):
+    from pendulab.numerics import experiments as E
+    spec, mathieu, kw = _prepared(ctx, options)
+    figures = options["figures"]
+    if part.startswith("map:"):
+        name = part[4:]
+        m = E.stability_maps(spec, options["grid"], E.INITIAL[name], options["periods"],
+                             options["steps_per_period"], tuple(options["criteria"]),
+                             prune=options["prune"], **kw)
+        files = {}
+        if figures:
+            fine = _fine(ctx, spec, mathieu, m["w0_over_w"])
+            files = {MAP_FILES[name] + ext: data
+                     for ext, data in figure_map(m, fine, map_title(name, m, fine)).items()}
+        return {"map": m, "files": files}
+    if part == "summary":
+        out = {"body": spec.body, "inertia_ratio": str(E.inertia_ratio(spec)), "limits": None}
+        if options["maps"] and mathieu:
+            w = E.S.linspace_grid(options["grid"])
+            out["limits"] = {"w0_over_w": w, "curves": E.limit_curves(spec, w)}
+        return out
+    if part == "first":
+        return {"first": E.first_experiment(spec, options["first_grid"], options["first_convention"],
+                                            options["periods"], options["steps_per_period"], **kw)}
+    if part == "fig5":
+        r = E.fig5(spec, periods=options["fig5_periods"], orders=tuple(options["fig5_orders"]),
+                   backend=options["backend"])
+        return {"fig5": r, "files": {"fig5" + ext: d for ext, d in figure_fig5(r).items()} if figures else {}}
+    if part == "fig2":
+        r = E.fig2(spec, periods=options["fig2_periods"], backend=options["backend"])
+        return {"fig2": r, "files": {"fig2" + ext: d for ext, d in figure_fig2(r).items()} if figures else {}}
+    raise InputError(f"no part {part!r} of the experiments product")
+
+
+def assemble(scene, options, results):
+    """{file: text or bytes} of the product from {part: result} of every part of :func:`parts`."""
+    from pendulab.io import canonical_json
+    summary = results["summary"]
+    merged = {"maps": {name: results[f"map:{name}"]["map"] for name in options["maps"]},
+              "limits": summary["limits"]}
+    for key in ("first", "fig5", "fig2"):
+        if key in results:
+            merged[key] = results[key][key]
+    files = {"experiments.json": canonical_json(document(merged, options, scene.name, summary))}
+    for part in parts(options):
+        files.update(results[part].get("files", {}))
+    return files
+
+
+def document(results, options, scene_name, summary):
+    from pendulab.numerics.experiments import INITIAL, SOURCE_COUNTS
     doc = {"scene": scene_name, "source": "000_8cba66c4fdf94ac6.txt sec. 4, Figs. 2-5",
-           "body": spec.body, "inertia_ratio": str(inertia_ratio(spec)),
+           "body": summary["body"], "inertia_ratio": summary["inertia_ratio"],
            "periods": options["periods"], "steps_per_period": options["steps_per_period"],
            "criteria_note": "mean: |time mean of theta| < 0.1; mean-abs: time mean of |theta| < 0.1; "
                             "bounded: |theta| < pi/2 throughout; floquet: exact linear verdict "
@@ -329,25 +396,17 @@ def figure_fig2(r):
             plt.close(fig)
 
 
-def figures(results):
-    """{file name: bytes} of every figure of ``results``."""
+#: file name (without extension) of each map's figure
+MAP_FILES = {"text": "fig3-text", "caption": "fig3-caption", "fig4": "fig4"}
+
+
+def map_title(name, m, fine):
+    """The suptitle of map ``name``'s figure."""
     from pendulab.numerics.experiments import INITIAL
-    files = {}
-    names = {"text": "fig3-text", "caption": "fig3-caption", "fig4": "fig4"}
-    for name, m in results["maps"].items():
-        th, om = INITIAL[name]
-        title = (rf"$\theta(0) = {th:g}$, $\dot\theta(0) = {om:g}$, {len(m['a_over_l'])}$^2$ pairs; "
-                 + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if results["fine"]["curves"]
-                    else "shaded: Floquet-stable (monodromy); dashed: its edge"))
-        for ext, data in figure_map(m, results["fine"], title).items():
-            files[names[name] + ext] = data
-    if "fig5" in results:
-        for ext, data in figure_fig5(results["fig5"]).items():
-            files["fig5" + ext] = data
-    if "fig2" in results:
-        for ext, data in figure_fig2(results["fig2"]).items():
-            files["fig2" + ext] = data
-    return files
+    th, om = INITIAL[name]
+    return (rf"$\theta(0) = {th:g}$, $\dot\theta(0) = {om:g}$, {len(m['a_over_l'])}$^2$ pairs; "
+            + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if fine["curves"]
+               else "shaded: Floquet-stable (monodromy); dashed: its edge"))
 
 
 def _error(value):
@@ -356,16 +415,6 @@ def _error(value):
 
 
 def produce(ctx, options):
-    from pendulab.errors import SceneError
-    from pendulab.io import canonical_json
-
-    try:
-        check_options(options)
-        spec = system_spec(ctx)
-        results = compute(spec, options)
-    except InputError as exc:
-        raise SceneError(ctx.scene.path, "products.experiments", str(exc)) from None
-    files = {"experiments.json": canonical_json(document(results, options, ctx.scene.name, spec))}
-    if options["figures"]:
-        files.update(figures(results))
-    return files
+    """{file: text or bytes}: every part of :func:`parts` in order, assembled."""
+    return assemble(ctx.scene, options, {part: produce_part(ctx, options, part)
+                                         for part in parts(options)})
