@@ -11,6 +11,8 @@ on the committed scenes twice per round, in fresh interpreters:
   stability-interval scan point by point), extracted with ``git archive``
   into a temporary directory and run by the same Python.
 
+One untimed build of each comes first (bytecode caches written, as on a user's
+machine; PYTHONDONTWRITEBYTECODE is dropped from the children's environment).
 Prints the wall time and the CPU time (user + system of the build and of
 the worker processes it forks) of each, the ratios, and whether the two
 builds wrote the same bytes.  The speed-up work itself changed no product, but
@@ -47,6 +49,9 @@ def _child_cpu():
 def run_build(src, out, jobs=None):
     """(wall s, CPU s) of one ``pendulab build derivations/ --force`` with ``src`` first on the path."""
     env = dict(os.environ, PYTHONPATH=str(src))
+    # a user's Python caches the bytecode of pendulab's modules; some sandboxes turn that off
+    # (PYTHONDONTWRITEBYTECODE), which would add the compilation of every module to each run
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
     if jobs is not None:
         env["PENDULAB_JOBS"] = str(jobs)
     cmd = [sys.executable, "-m", "pendulab", "build", str(ROOT / "derivations"), "--force", "--out", str(out)]
@@ -125,6 +130,10 @@ def main(argv=None):
         old_src = baseline_source(tmp)
         print(f"load average before: {os.getloadavg()[0]:.2f} (2 cores shared: wall times are noisy)")
         ours, serial, base = [], [], []
+        # one untimed build of each first: bytecode caches written, the C kernels compiled
+        run_build(ROOT / "src", tmp / "warm-ours", args.jobs)
+        if old_src is not None:
+            run_build(old_src, tmp / "warm-base")
         for k in range(args.repeat):
             ours.append(run_build(ROOT / "src", tmp / f"ours{k}", args.jobs))
             print(f"round {k + 1}: ours           {ours[-1][0]:6.2f} s wall, {ours[-1][1]:6.2f} s CPU")
