@@ -638,3 +638,44 @@ def test_heavy_imports_shared_by_scenes_are_made_before_the_workers_fork(tmp_pat
     assert res.stdout.strip().splitlines()[-1] == str(preloaded)
     assert (tmp_path / "out" / "rod" / "stability.json").exists()
     assert (tmp_path / "out" / "rod" / "stability.svg").exists() == preloaded
+
+
+def test_tasks_are_each_taken_once_dearest_first_and_scenes_stay_in_one_process():
+    """_Shared.take: every task is handed out exactly once; the dearest free task first, except
+    that a process leaves a scene that only another process has worked on to that process
+    while a task at least half as dear of another scene is free."""
+    import multiprocessing as mp
+
+    from pendulab.build import _Shared
+    # (scene, product, part) in the build's order, dearest first
+    tasks = [(0, "motion", None), (1, "experiments", "map:text"), (0, "bessel", None),
+             (1, "experiments", "fig2"), (0, "equations", None), (2, "series", None)]
+    weights = [10, 6, 4, 4, 0.5, 1]
+    state = _Shared(mp.Array("b", len(tasks)), mp.Array("i", 3), mp.Value("b", 0), weights)
+    assert state.take(tasks, 1) == 0          # process 1 takes motion (scene 0)
+    assert state.take(tasks, 0) == 1          # process 0 the next: map:text (scene 1)
+    assert state.take(tasks, 0) == 3          # bessel is scene 0's, process 1's: fig2 instead
+    assert state.take(tasks, 1) == 2          # process 1 takes bessel itself
+    assert state.take(tasks, 0) == 5          # equations is scene 0's; series (nobody's) is free
+    assert state.take(tasks, 0) == 4          # nothing else is left: it takes equations after all
+    assert state.take(tasks, 1) is None and state.take(tasks, 0) is None
+    assert list(state.taken) == [1] * len(tasks)
+
+
+def test_a_product_in_parts_in_two_processes_gives_the_serial_bytes(tmp_path):
+    """The experiments product is computed in parts spread over the processes; the files and
+    the log are those of a serial build."""
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    _write(scenes, 'system = "kapitza"\n[parameters]\nbody = "rod"\n[products.experiments]\n'
+                   'grid = 4\nperiods = 10\nsteps_per_period = 20\nmaps = ["text", "caption"]\n'
+                   'fig5_periods = 2\nfig2_periods = 2\nfigures = false\n', "x.toml")
+    trees, logs = {}, {}
+    for jobs in (1, 2):
+        out = tmp_path / f"out{jobs}"
+        lines = []
+        assert build(scenes, out, log=lines.append, jobs=jobs) == {"x": "built"}
+        trees[jobs] = {str(p.relative_to(out)): p.read_bytes() for p in out.rglob("*") if p.is_file()}
+        logs[jobs] = [line.replace(str(out), "OUT") for line in lines]
+    assert trees[1] == trees[2] and logs[1] == logs[2]
+    assert "x/experiments.json" in trees[1]

@@ -15,6 +15,7 @@ import pytest
 
 from pendulab.numerics import experiments as E
 from pendulab.numerics import sweep as S
+from pendulab.scene import load_scene
 
 ROD = S.SystemSpec("rod")
 
@@ -196,3 +197,38 @@ def test_product_hill_drive_refuses_the_mathieu_figures(tmp_path, capsys):
     assert code == 2 and len(err) == 1
     assert "products.experiments" in err[0] and "fig5 = false and fig2 = false" in err[0]
     assert not (tmp_path / "g" / "exp").exists()
+
+
+def test_parts_computed_anywhere_give_the_files_of_produce(tmp_path):
+    """pendulab build may compute the parts of the product in different processes: each part
+    in a fresh context (nothing shared), in reverse order, assembled, gives the bytes of
+    produce(), which computes them in order in one context."""
+    from pendulab.pipeline import Context
+    from pendulab.products import experiments as product
+    (tmp_path / "exp.toml").write_text(SCENE.format(body="rod"))
+    scene = load_scene(tmp_path / "exp.toml")
+    options = scene.products["experiments"]
+    parts = product.parts(options)
+    assert parts == ["map:text", "map:fig4", "summary", "fig5", "fig2"]
+    whole = product.produce(Context(scene), options)
+    apart = product.assemble(scene, options, {p: product.produce_part(Context(scene), options, p)
+                                              for p in reversed(parts)})
+    assert sorted(apart) == sorted(whole)
+    assert all(apart[name] == whole[name] for name in whole)
+
+
+def test_a_scene_error_is_the_same_from_every_part(tmp_path):
+    """Each part checks the options and the drive first (here fig5 on a Hill drive), so the
+    error does not depend on which part a process computed first."""
+    from pendulab.errors import SceneError
+    from pendulab.pipeline import Context
+    from pendulab.products import experiments as product
+    (tmp_path / "exp.toml").write_text(HILL_SCENE)
+    scene = load_scene(tmp_path / "exp.toml")
+    options = scene.products["experiments"]
+    messages = set()
+    for part in product.parts(options):
+        with pytest.raises(SceneError) as info:
+            product.produce_part(Context(scene), options, part)
+        messages.add(str(info.value))
+    assert len(messages) == 1 and "the drive gives a Hill equation" in messages.pop()

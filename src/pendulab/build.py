@@ -262,7 +262,7 @@ def compute_scenes(scenes, jobs=1):
       scipy.integrate);
     * then ``jobs`` - 1 worker processes are forked (they inherit both), and
       this process and the workers take the tasks one at a time, dearest
-      first (:data:`WEIGHTS`), from one shared counter: a task is a product,
+      first (:data:`WEIGHTS`; :meth:`_Shared.take`): a task is a product,
       or one part of a product that is made in parts
       (:func:`pendulab.pipeline.product_parts`; the experiments' maps and
       figures), whose results this process assembles at the end; a process
@@ -290,17 +290,18 @@ def compute_scenes(scenes, jobs=1):
     _preload(scenes)
     tasks.sort(key=lambda t: -_weight(t))  # stable: scene order within a weight
     fork = mp.get_context("fork")
-    state = _Shared(fork.Value("i", 0), fork.Value("b", 0))
+    state = _Shared(fork.Array("b", len(tasks)), fork.Array("i", len(scenes)), fork.Value("b", 0),
+                    [_weight(t) for t in tasks])
     workers = []
     done = {}
     try:
-        for _ in range(min(jobs, len(tasks)) - 1):
+        for me in range(1, min(jobs, len(tasks))):
             receive, send = fork.Pipe(duplex=False)
-            proc = fork.Process(target=_worker, args=(scenes, tasks, state, send), daemon=True)
+            proc = fork.Process(target=_worker, args=(scenes, tasks, state, send, me), daemon=True)
             proc.start()
             send.close()
             workers.append((proc, receive))
-        done.update(_take_products(scenes, tasks, state))
+        done.update(_take_products(scenes, tasks, state, 0))
         for proc, receive in workers:
             try:
                 done.update(receive.recv())
@@ -333,24 +334,54 @@ def compute_scenes(scenes, jobs=1):
 
 
 class _Shared:
-    """The counter of the next product to take and the flag that stops taking (shared memory)."""
+    """What the processes share: which tasks are taken, which processes have worked on each
+    scene (a bit per process), the flag that stops taking; and the tasks' weights."""
 
-    def __init__(self, next_task, stop):
-        self.next_task, self.stop = next_task, stop
+    def __init__(self, taken, touched, stop, weights):
+        self.taken, self.touched, self.stop, self.weights = taken, touched, stop, weights
+
+    def take(self, tasks, me):
+        """Index of the task process ``me`` computes next (None: all are taken).
+
+        The first task not yet taken, in order (dearest first), unless its scene
+        has been worked on by other processes only and a task at least half as
+        dear of a scene this process knows, or of one nobody has touched, is
+        still free: then that one, so that a scene's stages (the variable
+        length's derivation and closed form) are made in fewer processes.
+        """
+        bit = 1 << (me % 31)  # a shared bit beyond 31 processes only blurs the preference
+
+        def foreign(task):
+            seen = self.touched[tasks[task][0]]
+            return seen and not seen & bit
+
+        with self.taken.get_lock():
+            free = [k for k in range(len(tasks)) if not self.taken[k]]
+            if not free:
+                return None
+            k = free[0]
+            if foreign(k):
+                for j in free[1:]:
+                    if self.weights[j] < self.weights[k] / 2:
+                        break
+                    if not foreign(j):
+                        k = j
+                        break
+            self.taken[k] = 1
+            self.touched[tasks[k][0]] |= bit
+            return k
 
 
-def _take_products(scenes, tasks, state):
+def _take_products(scenes, tasks, state, me):
     """{task index: (result, stages of its scene that ran in this process) or None (failed)}
     of the products and parts of products this process takes until none is left or one
     has failed (a product's result is its {file: text}, a part's what the part gives)."""
     from pendulab.pipeline import Context, run_part
     contexts, done = {}, {}
     while not state.stop.value:
-        with state.next_task.get_lock():
-            k = state.next_task.value
-            if k >= len(tasks):
-                break
-            state.next_task.value = k + 1
+        k = state.take(tasks, me)
+        if k is None:
+            break
         i, name, part = tasks[k]
         try:
             ctx = contexts.setdefault(i, Context(scenes[i]))
@@ -361,13 +392,13 @@ def _take_products(scenes, tasks, state):
     return done
 
 
-def _worker(scenes, tasks, state, send):
+def _worker(scenes, tasks, state, send, me):
     """A forked worker: take products, send what they gave, end without tearing down."""
     import signal
     status = 1
     try:
         signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent stops the workers itself
-        send.send(_take_products(scenes, tasks, state))
+        send.send(_take_products(scenes, tasks, state, me))
         send.close()
         status = 0
     except BaseException:  # noqa: B036 (nothing may print here; the parent recomputes)
