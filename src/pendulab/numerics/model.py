@@ -139,6 +139,10 @@ def _dimensionless_groups(inertia_symbolic):
     return groups
 
 
+#: pivot_system's results in this process, by what they depend on (see there)
+_PIVOT = {}
+
+
 def pivot_system(equations, form, values=None, groups=True):
     """The driven pivot as a first-order system in tau (see the module docstring).
 
@@ -146,17 +150,37 @@ def pivot_system(equations, form, values=None, groups=True):
     ``form`` its canonical stage (:func:`pendulab.canonical.periodic_form`).
     ``values`` maps symbol names to numbers substituted after the groups
     (e.g. ``{"l": 0.05}``); ``groups=False`` keeps the physical symbols.
+    Made once per process for each derivation, body inertia, values and
+    groups (the final simplify is most of a build's symbolic work here): the
+    same record is returned again.
 
     >>> from pendulab.equations import derive
     >>> from pendulab.systems import DrivenPivot
     >>> from pendulab.canonical import periodic_form
     >>> eqs = derive(DrivenPivot(body="rod"))
     >>> fos = pivot_system(eqs, periodic_form(eqs))
+    >>> pivot_system(derive(DrivenPivot(body="rod")), periodic_form(eqs)) is fos
+    True
     >>> fos.params
     (a_over_l, w0_over_w)
     >>> fos.linear_rhs[1]
     theta*(-3*a_over_l*cos(2*tau) + 4*w0_over_w**2)
     """
+    from pendulab.equations import MAX_CACHED, derivation_key
+    # the equations depend on the derivation key only, the form on the equations; the body
+    # enters through its inertia: the rod's kernels, sweeps and Floquet product share one
+    key = (derivation_key(equations.system), sp.srepr(sp.sympify(equations.system.inertia)),
+           repr(form.frequency), repr(sorted((values or {}).items(), key=repr)), groups)
+    if key in _PIVOT and _PIVOT[key][0] == equations.eom and _PIVOT[key][1] == form:
+        return _PIVOT[key][2]
+    out = _pivot_system(equations, form, values, groups)
+    if len(_PIVOT) >= MAX_CACHED:
+        _PIVOT.pop(next(iter(_PIVOT)))
+    _PIVOT[key] = (equations.eom, form, out)
+    return out
+
+
+def _pivot_system(equations, form, values, groups):
     system = equations.system
     th = system.coordinate
     acc = th.diff(S.t, 2)
