@@ -88,3 +88,14 @@ def test_direction_from_the_rate():
         direction_of(c)
     with pytest.raises(InputError, match="does not change"):
         direction_of(0)
+
+
+@pytest.mark.parametrize("nu,shift,order", [(1, 2, 4), (2, 1, 4), (2, 2, 6), (0, 1, 3)])
+def test_scaled_square_is_the_expanded_square_of_mcmahons_zero(nu, shift, order):
+    """The ring arithmetic of _scaled_square against SymPy's own expansion of the square of
+    McMahon's u j_{nu, 1/u + shift} (the route it replaced), truncated at u^(order+2)."""
+    from pendulab.analyses.bessel_asymptotics import _scaled_square, _scaled_zero
+    u = sp.Symbol("u", positive=True)
+    p = sp.Poly(sp.expand(_scaled_zero(nu, shift, u, order) ** 2), u)
+    slow = sp.expand(sum(p.coeff_monomial(u ** i) * u ** i for i in range(order + 3)))
+    assert _scaled_square(nu, shift, u, order) == slow
