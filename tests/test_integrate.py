@@ -167,6 +167,38 @@ def test_reference_is_tight():
     assert np.array_equal(a[0], [0.06, 0.01])
 
 
+@pytest.mark.parametrize("name, linear", [("rod", True), ("rod", False), ("string-linear", True)])
+def test_reference_agrees_with_an_mpmath_taylor_solution(name, linear):
+    """DOP853 on the generated scalar right-hand side against mpmath's Taylor-series ODE
+    solver (mpmath.odefun, 25 digits) on the lambdified derivation: an independent method
+    and an independent evaluation of the equation."""
+    import mpmath
+    import sympy as sp
+    fos = system(name)
+    y0, p, _ = CASES[name]
+    exprs = fos.linear_rhs if linear else fos.rhs
+    f = sp.lambdify((fos.time, fos.states, fos.params), list(exprs), "mpmath")
+    t = np.linspace(0.0, 3.0, 7)
+    ref = reference_trajectory(fos, y0, p, t, linear=linear)
+    with mpmath.workdps(25):
+        pm = [mpmath.mpf(v) for v in p]
+        sol = mpmath.odefun(lambda x, y: f(x, y, pm), 0, [mpmath.mpf(v) for v in y0])
+        exact = np.array([[float(v) for v in sol(mpmath.mpf(x))] for x in t])
+    assert np.max(np.abs(ref - exact)) < 1e-11
+
+
+def test_reference_turns_a_math_overflow_into_one_line(monkeypatch):
+    """The scalar right-hand side uses math's functions, which raise where NumPy's give inf:
+    the reference says it overflowed, in one line."""
+    def huge(fos, linear=False):
+        def rhs(t, y, p=()):
+            return [y[1], math.exp(1e6 * y[0])]
+        return rhs
+    monkeypatch.setattr(codegen, "scalar_function", huge)
+    with pytest.raises(InputError, match="overflowed"):
+        reference_trajectory(system("rod"), [0.06, 0.01], [0.2, 0.05], np.linspace(0, 1, 5))
+
+
 ROD_Y, ROD_P = [[0.06, 0.01]], [0.2, 0.05]
 
 

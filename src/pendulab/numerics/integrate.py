@@ -166,11 +166,6 @@ def default_threads():
 
 # -- the NumPy path -------------------------------------------------------------------------
 
-def _numpy_rhs(fos, linear):
-    from pendulab.numerics.codegen import numpy_functions
-    return numpy_functions(fos)["linear_rhs" if linear else "rhs"]
-
-
 def _max_abs(a, b):
     x = np.abs(a)
     return np.where((x > b) | (x != x), x, b)
@@ -322,7 +317,8 @@ class _TooManyEvaluations(Exception):
 
 def reference_trajectory(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, atol=1e-15,
                          max_evaluations=None):
-    """SciPy's DOP853 on the generated right-hand side: states (len(t_eval), 2) at ``t_eval``.
+    """SciPy's DOP853 on the generated scalar right-hand side
+    (:func:`pendulab.numerics.codegen.scalar_function`): states (len(t_eval), 2) at ``t_eval``.
 
     Starts from ``y0`` (2,) at t_eval[0]; ``t_eval`` must be monotonic.  The reference that
     measures RK4's error (:func:`rk4_error`); raises InputError if the solver fails, if a
@@ -339,8 +335,11 @@ def reference_trajectory(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, a
         raise InputError("t_eval must be strictly monotonic")
     rtol = _finite_number(rtol, "rtol")
     atol = _finite_number(atol, "atol")
-    f = _numpy_rhs(fos, linear)
-    pc = p.reshape(-1, 1)
+    # the generated scalar right-hand side (math functions on floats): SciPy calls it once per
+    # stage, and NumPy's per-call cost on 2-vectors was most of the reference's time
+    from pendulab.numerics.codegen import scalar_function
+    f = scalar_function(fos, linear)
+    pt = tuple(float(v) for v in p)
 
     count = [0]
 
@@ -348,11 +347,15 @@ def reference_trajectory(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, a
         count[0] += 1
         if max_evaluations is not None and count[0] > max_evaluations:
             raise _TooManyEvaluations
-        return f(t, y, pc)
+        return f(t, (y[0], y[1]), pt)
     try:
         with np.errstate(all="ignore"):
             sol = solve_ivp(fun, (t_eval[0], t_eval[-1]), y0, method="DOP853", t_eval=t_eval,
-                            rtol=rtol, atol=atol, vectorized=True)
+                            rtol=rtol, atol=atol)
+    except (OverflowError, ZeroDivisionError, ValueError):
+        # math's functions raise where NumPy's give inf or nan
+        raise InputError("reference integration (DOP853) overflowed (a state is no longer "
+                         "finite)") from None
     except _TooManyEvaluations:
         raise InputError(f"the reference (DOP853 at rtol {rtol:g}) passed {max_evaluations} "
                          "evaluations of the right-hand side before reaching the end (a fast "
