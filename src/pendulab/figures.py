@@ -7,7 +7,8 @@ run (``pendulab build`` must reproduce generated/ byte for byte).
 * :func:`pyplot` - (matplotlib, matplotlib.pyplot) on the Agg backend, or a
   one-line :class:`~pendulab.errors.InputError` naming the product when
   matplotlib (the "figures" extra) is not installed;
-* :func:`save` - {".png": bytes, ".pdf": bytes} of a figure at ``dpi``.
+* :func:`save` - {".png": bytes, ".pdf": bytes} of a figure at ``dpi``;
+* :func:`margins` - fixed margins in inches in place of ``tight_layout``.
 
 >>> matplotlib, plt = pyplot("demo")
 >>> fig, ax = plt.subplots()
@@ -48,6 +49,22 @@ def save(fig, dpi=150):
             fig.savefig(buf, format=ext[1:], metadata=meta, **kw)
         out[ext] = buf.getvalue()
     return out
+
+
+def margins(fig, left, right, bottom, top, wspace=0.0, hspace=0.0):
+    """fig.subplots_adjust from margins and gaps in inches (the figure's own size).
+
+    In place of ``tight_layout``, which measures every text twice more (about
+    0.07 s for a 2 x 2 figure and slower saves after it): the margins are
+    fixed for the font sizes of the products' rc settings.
+    """
+    w, h = fig.get_size_inches()
+    gs = fig.axes[0].get_subplotspec().get_gridspec()
+    nrow, ncol = gs.get_geometry()
+    aw = (w - left - right - wspace * (ncol - 1)) / ncol
+    ah = (h - bottom - top - hspace * (nrow - 1)) / nrow
+    fig.subplots_adjust(left=left / w, right=1 - right / w, bottom=bottom / h, top=1 - top / h,
+                        wspace=wspace / aw, hspace=hspace / ah)
 
 
 # ---------------------------------------------------------------------------

@@ -49,8 +49,8 @@ FINE = 301
 #: Points of omega0/omega at which the eq. 28 curves of the figures are computed.
 CURVE = 41
 
-LABELS = {"mean": r"$|\langle\theta\rangle| < 0.1$", "mean-abs": r"$\langle|\theta|\rangle < 0.1$",
-          "bounded": r"$|\theta| < \pi/2$", "floquet": "Floquet (linear)"}
+#: Panel titles of the maps, plain Unicode text (DejaVu Sans has the glyphs; no mathtext parse per figure).
+LABELS = {"mean": "|⟨θ⟩| < 0.1", "mean-abs": "⟨|θ|⟩ < 0.1", "bounded": "|θ| < π/2", "floquet": "Floquet (linear)"}
 
 
 def _round(v):
@@ -229,6 +229,16 @@ def save(fig):
     return save_bytes(fig, dpi=RC["savefig.dpi"])
 
 
+def _margins(fig, **inches):
+    from pendulab.figures import margins
+    margins(fig, **inches)
+
+
+def _minus(x, spec):
+    """``format(x, spec)`` with a true minus sign (U+2212), as mathtext wrote it."""
+    return format(x, spec).replace("-", "\u2212")
+
+
 def figure_map(m, limits, title):
     """2 x 2 panels (one per criterion): stable cells as open circles (as in the source), the
     Floquet region shaded, eq. 28 (solid) and exact (dashed) limits of a/l drawn over them."""
@@ -261,16 +271,18 @@ def figure_map(m, limits, title):
                 ax.add_line(Line2D([], [], ls="--", color="C0", lw=1.0, label="exact (Floquet)"))
                 ax.set_xlim(0, 1)
                 ax.set_ylim(0, 1)
-                ax.set_title(f"{LABELS[c]}: {m['counts'][c]} stable")
+                ax.set_title(y=1.0, label=f"{LABELS[c]}: {m['counts'][c]} stable")
                 if k // ncol == nrow - 1:
-                    ax.set_xlabel(r"$a/l$")
+                    ax.set_xlabel("a/l")
                 if k % ncol == 0:
-                    ax.set_ylabel(r"$\omega_0/\omega$")
+                    ax.set_ylabel("ω₀/ω")
             axes[0][0].legend(loc="upper left", frameon=False)
             for k in range(len(crits), nrow * ncol):
                 axes[k // ncol][k % ncol].set_visible(False)
             fig.suptitle(title)
-            fig.tight_layout()
+            # fixed margins in inches (tick labels, axis labels, titles at RC's sizes) in place of
+            # tight_layout: one text-metrics pass less, and the same layout for PNG and PDF
+            _margins(fig, left=0.62, right=0.14, bottom=0.48, top=0.62, wspace=0.32, hspace=0.36)
             return save(fig)
         finally:
             plt.close(fig)
@@ -291,14 +303,14 @@ def figure_fig5(r):
                         label=f"series (eq. 23), order {n}")
                 ax2.semilogy(tau, np.abs(th - r["theta"]) + 1e-18, styles[k % 3], color=f"C{3 + k}", lw=0.8,
                              label=f"order {n}: max {r['error'][n]:.1e}")
-            ax.set_ylabel(r"$\theta(\tau)$")
-            ax.set_title(rf"$a/l = 1/5$, $\omega_0/\omega = 1/20$, $\theta(0) = {r['theta'][0]:g}$, "
-                         rf"$\dot\theta(0) = 0.01$ ($\theta_0 = {r['theta0']:.3g}$, $\theta_1 = {r['theta1']:.3g}$)")
+            ax.set_ylabel("θ(τ)")
+            ax.set_title(y=1.0, label=f"a/l = 1/5, ω₀/ω = 1/20, θ(0) = {r['theta'][0]:g}, "
+                         f"dθ/dτ(0) = 0.01 (θ₀ = {_minus(r['theta0'], '.3g')}, θ₁ = {_minus(r['theta1'], '.3g')})")
             ax.legend(loc="lower left", frameon=False)
-            ax2.set_xlabel(r"$\tau$")
-            ax2.set_ylabel("|series $-$ RK4|")
+            ax2.set_xlabel("τ")
+            ax2.set_ylabel("|series − RK4|")
             ax2.legend(loc="lower right", frameon=False)
-            fig.tight_layout()
+            _margins(fig, left=0.8, right=0.12, bottom=0.45, top=0.3, hspace=0.15)
             return save(fig)
         finally:
             plt.close(fig)
@@ -310,20 +322,20 @@ def figure_fig2(r):
         fig, ax = plt.subplots(figsize=(6.6, 3.6))
         try:
             tau = r["tau"]
-            ax.plot(tau, r["theta"], "-", color="k", lw=0.9, label=r"$\theta(\tau)$ (RK4, eq. 7)")
+            ax.plot(tau, r["theta"], "-", color="k", lw=0.9, label="θ(τ) (RK4, eq. 7)")
             ax.plot(tau, r["slow"], "--", color="C3", lw=1.2, label="slow part (mean over one drive period)")
-            ax.set_xlabel(r"$\tau$")
-            ax.set_ylabel(r"$\theta$")
+            ax.set_xlabel("τ")
+            ax.set_ylabel("θ")
             ax2 = ax.twinx()
-            ax2.plot(tau, r["pivot"], ":", color="0.3", lw=0.6, label=r"pivot $y_0/a$")
-            ax2.set_ylabel(r"pivot $y_0/a$")
+            ax2.plot(tau, r["pivot"], ":", color="0.3", lw=0.6, label="pivot y₀/a")
+            ax2.set_ylabel("pivot y₀/a")
             ax2.set_ylim(-6, 6)
-            ax.set_title(rf"$\theta_0 = {r['theta0']:g}$, $\theta_1 = {r['theta1']:g}$, "
-                         rf"$\theta(0) = {r['theta'][0]:g}$, $\dot\theta(0) = 0$")
+            ax.set_title(y=1.0, label=f"θ₀ = {_minus(r['theta0'], 'g')}, θ₁ = {_minus(r['theta1'], 'g')}, "
+                         f"θ(0) = {_minus(r['theta'][0], 'g')}, dθ/dτ(0) = 0")
             h1, l1 = ax.get_legend_handles_labels()
             h2, l2 = ax2.get_legend_handles_labels()
             fig.legend(h1 + h2, l1 + l2, loc="lower center", ncol=3, frameon=False)
-            fig.tight_layout(rect=(0, 0.07, 1, 1))
+            _margins(fig, left=0.85, right=0.6, bottom=0.8, top=0.3)
             return save(fig)
         finally:
             plt.close(fig)
@@ -336,7 +348,7 @@ def figures(results):
     names = {"text": "fig3-text", "caption": "fig3-caption", "fig4": "fig4"}
     for name, m in results["maps"].items():
         th, om = INITIAL[name]
-        title = (rf"$\theta(0) = {th:g}$, $\dot\theta(0) = {om:g}$, {len(m['a_over_l'])}$^2$ pairs; "
+        title = (f"θ(0) = {_minus(th, 'g')}, dθ/dτ(0) = {_minus(om, 'g')}, {len(m['a_over_l'])}² pairs; "
                  + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if results["fine"]["curves"]
                     else "shaded: Floquet-stable (monodromy); dashed: its edge"))
         for ext, data in figure_map(m, results["fine"], title).items():

@@ -352,6 +352,12 @@ def save_figure(fig):
     return out[".png"], out[".pdf"]
 
 
+def _margins(fig, **inches):
+    """Fixed margins in inches in place of tight_layout (pendulab.figures.margins)."""
+    from pendulab.figures import margins
+    margins(fig, **inches)
+
+
 _RC = {"figure.figsize": (6.3, 4.2), "font.size": 9, "axes.titlesize": 9,
        "legend.fontsize": 8, "pdf.compression": 6, "path.simplify": False}
 
@@ -381,11 +387,11 @@ def figure_theta(doc, keep):
                         label=r"numerics, nonlinear (002 eq. 3)")
                 ax.set_xlabel(r"$t$ (s)")
             ax.set_ylabel(r"$\theta$ (rad)")
-            ax.set_title(f"Variable-length pendulum, $L(t) = {_tex_length(doc['length'])}$, "
+            ax.set_title(y=1.0, label=f"Variable-length pendulum, $L(t) = {_tex_length(doc['length'])}$, "
                          f"$\\theta(0) = {doc['theta_0']:g}$")
             ax.legend(loc="upper right", frameon=False)
             fig.align_ylabels()
-            fig.tight_layout()
+            _margins(fig, left=0.85, right=0.15, bottom=0.45, top=0.3, hspace=0.25)
             return save_figure(fig)
         finally:
             plt.close(fig)
@@ -424,10 +430,10 @@ def figure_envelope(doc, keep, length):
             ax.yaxis.set_minor_formatter(matplotlib.ticker.ScalarFormatter())
             ax2.set_xlabel(r"$L$ (m)")
             ax.set_ylabel(r"$|\theta|$ (rad)")
-            ax.set_title(f"Amplitude law, $L(t) = {_tex_length(doc['length'])}$")
+            ax.set_title(y=1.0, label=f"Amplitude law, $L(t) = {_tex_length(doc['length'])}$")
             ax.legend(loc="best", frameon=False)
             fig.align_ylabels()
-            fig.tight_layout()
+            _margins(fig, left=0.85, right=0.15, bottom=0.45, top=0.3, hspace=0.25)
             return save_figure(fig)
         finally:
             plt.close(fig)
