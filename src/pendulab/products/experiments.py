@@ -250,7 +250,8 @@ def figure_map(m, limits, title):
     a = np.asarray(m["a_over_l"])
     w = np.asarray(m["w0_over_w"])
     with matplotlib.rc_context(RC):
-        fig, axes = plt.subplots(nrow, ncol, figsize=(6.6, 3.3 * nrow + 0.4), squeeze=False,
+        # the suptitle takes two lines (see figures()): 0.18 in more at the top than one line
+        fig, axes = plt.subplots(nrow, ncol, figsize=(6.6, 3.3 * nrow + 0.58), squeeze=False,
                                  sharex=True, sharey=True)
         try:
             n = len(a)
@@ -282,7 +283,7 @@ def figure_map(m, limits, title):
             fig.suptitle(title)
             # fixed margins in inches (tick labels, axis labels, titles at RC's sizes) in place of
             # tight_layout: one text-metrics pass less, and the same layout for PNG and PDF
-            _margins(fig, left=0.62, right=0.14, bottom=0.48, top=0.62, wspace=0.32, hspace=0.36)
+            _margins(fig, left=0.62, right=0.14, bottom=0.48, top=0.8, wspace=0.32, hspace=0.36)
             return save(fig)
         finally:
             plt.close(fig)
@@ -348,7 +349,8 @@ def figures(results):
     names = {"text": "fig3-text", "caption": "fig3-caption", "fig4": "fig4"}
     for name, m in results["maps"].items():
         th, om = INITIAL[name]
-        title = (f"θ(0) = {_minus(th, 'g')}, dθ/dτ(0) = {_minus(om, 'g')}, {len(m['a_over_l'])}² pairs; "
+        # two lines: on one the suptitle is wider than the figure (clipped at both edges)
+        title = (f"θ(0) = {_minus(th, 'g')}, dθ/dτ(0) = {_minus(om, 'g')}, {len(m['a_over_l'])}² pairs\n"
                  + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if results["fine"]["curves"]
                     else "shaded: Floquet-stable (monodromy); dashed: its edge"))
         for ext, data in figure_map(m, results["fine"], title).items():
