@@ -1,10 +1,17 @@
-"""The layout of the experiments and motion figures: no text outside the figure, no two texts on
-top of each other.
+"""The experiments and motion figures: no text outside the figure, no two texts on top of each
+other, and every font of the PDFs embedded with the right glyphs.
 
 The figures use fixed margins (pendulab.figures.margins) instead of tight_layout, so nothing
 moves a text that grows (a longer title, a wider tick label) back inside the page; these tests
-draw each figure as its PNG is drawn and measure every text that is drawn.
+draw each figure as its PNG is drawn and measure every text that is drawn.  The PDFs' fonts
+are subsets shared by the figures of a process (pendulab.figures.COMMON_CHARACTERS); the
+tests read each PDF's fonts back and compare every character's glyph with the font file's.
 """
+
+import io
+import re
+import warnings
+import zlib
 
 import pytest
 
@@ -38,18 +45,27 @@ points = 201
 {more}
 """
 
+SCENES = {
+    "experiments": EXPERIMENTS.format(drive="", more=""),
+    "hill": EXPERIMENTS.format(drive='drive = "a*cos(omega*t) + a*cos(2*omega*t)"',
+                               more='criteria = ["bounded", "floquet"]\nfig5 = false\nfig2 = false'),
+    "growing": MOTION.format(length="L0 + v0*t", t_end="20.0", more=""),
+    "periodic": MOTION.format(length="L0*(1 + eps*sin(Omega*t))", t_end="10.0",
+                              more="values = {eps = 0.05, Omega = 6.26}"),
+}
+#: figures each scene draws
+FIGURES = {"experiments": 3, "hill": 1, "growing": 2, "periodic": 1}
 
-def _drawn_texts(monkeypatch):
-    """Patch pendulab.figures.save: before each figure is saved, draw it at the PNG's dpi and
-    record (name of the figure, [(text, bounding box in pixels)], figure box) for every text
-    matplotlib draws (visible, not empty, inside the view limits for tick labels)."""
+
+def _recording_save(found):
+    """A stand-in for pendulab.figures.save: before the figure is saved, it is drawn at the
+    PNG's dpi and (texts, figure box) appended to ``found``: [(text, bounding box in pixels)]
+    of every text matplotlib draws (visible, not empty, inside the view limits for tick labels)."""
     import matplotlib.text
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from pendulab import figures
-
     real_save = figures.save
-    found = []
 
     def save(fig, dpi=150):
         texts = []
@@ -61,20 +77,45 @@ def _drawn_texts(monkeypatch):
                 texts.append((self.get_text(), self.get_window_extent(renderer)))
 
         fig.set_dpi(dpi)
-        monkeypatch.setattr(matplotlib.text.Text, "draw", draw)
+        matplotlib.text.Text.draw = draw
         try:
             FigureCanvasAgg(fig).draw()
         finally:
-            monkeypatch.setattr(matplotlib.text.Text, "draw", real_draw)
+            matplotlib.text.Text.draw = real_draw
         found.append((texts, fig.bbox.frozen()))
         return real_save(fig, dpi=dpi)
 
-    monkeypatch.setattr(figures, "save", save)
-    return found
+    return save
 
 
-def _check(found, expected):
-    assert len(found) == expected
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    """{scene: (recorded texts per figure, output directory)} of the SCENES, built once."""
+    from pendulab import figures
+    from pendulab.build import build
+    from pendulab.errors import AccuracyWarning
+    out = {}
+    for name, text in SCENES.items():
+        root = tmp_path_factory.mktemp(name)
+        (root / "s").mkdir()
+        (root / "s" / "scene.toml").write_text(text)
+        found = []
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(figures, "save", _recording_save(found))
+            with warnings.catch_warnings():
+                # the Hill drive's cells on a/l = 0 or omega0/omega = 0
+                warnings.simplefilter("ignore", AccuracyWarning)
+                build(root / "s", root / "g", force=True, log=lambda m: None, jobs=1)
+        (scene_dir,) = [d for d in (root / "g").iterdir() if d.is_dir()]
+        out[name] = (found, scene_dir)
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scene", list(SCENES))
+def test_every_text_inside_the_figure_and_apart(built, scene):
+    found, _ = built[scene]
+    assert len(found) == FIGURES[scene]
     for texts, box in found:
         assert texts
         for text, b in texts:
@@ -87,36 +128,80 @@ def _check(found, expected):
                 assert min(overlap) <= 1, f"{t1!r} and {t2!r} overlap"
 
 
-def _build(tmp_path, text):
-    from pendulab.build import build
-    (tmp_path / "s").mkdir()
-    (tmp_path / "s" / "scene.toml").write_text(text)
-    build(tmp_path / "s", tmp_path / "g", force=True, log=lambda m: None, jobs=1)
+@pytest.mark.slow
+def test_hill_drive_map_title_names_the_monodromy_matrix(built):
+    (texts, _), = built["hill"][0]
+    assert [t for t, _ in texts if "monodromy" in t]
+
+
+# -- fonts -------------------------------------------------------------------------------
+
+def _objects(pdf):
+    return {int(m.group(1)): m.group(2) for m in re.finditer(rb"(\d+) 0 obj\n(.*?)endobj", pdf, re.S)}
+
+
+def _stream(obj):
+    data = obj.split(b"stream\n", 1)[1]
+    return zlib.decompressobj().decompress(data) if b"/FlateDecode" in obj.split(b"stream\n")[0] else data
+
+
+def _ref(obj, key):
+    return int(re.search(rb"/" + key + rb" (\d+) 0 R", obj).group(1))
+
+
+def _to_unicode(cmap):
+    """{character code: text} of a ToUnicode CMap as matplotlib writes it (bfrange arrays)."""
+    out = {}
+    for start, _end, values in re.findall(rb"<([0-9a-f]+)> <([0-9a-f]+)> \[([^\]]*)\]", cmap):
+        for k, v in enumerate(values.split()):
+            out[int(start, 16) + k] = bytes.fromhex(v[1:-1].decode()).decode("utf-16be")
+    return out
+
+
+def _embedded_fonts(pdf):
+    """[(kind, base font, {character: glyph name in the embedded font})] of a PDF's fonts."""
+    from fontTools.ttLib import TTFont
+    objs = _objects(pdf)
+    fonts = []
+    for obj in objs.values():
+        head = obj.split(b"stream\n")[0]
+        if b"/Subtype /CIDFontType2" in head:
+            name = re.search(rb"/BaseFont /([^\s/]+)", head).group(1).decode()
+            descriptor = objs[_ref(head, b"FontDescriptor")]
+            font = TTFont(io.BytesIO(_stream(objs[_ref(descriptor, b"FontFile2")])))
+            order = font.getGlyphOrder()
+            gids = _stream(objs[_ref(head, b"CIDToGIDMap")])
+            (parent,) = [o for o in objs.values() if re.search(
+                rb"/DescendantFonts \[ %d 0 R \]" % next(k for k, v in objs.items() if v is obj), o)]
+            chars = _to_unicode(_stream(objs[_ref(parent, b"ToUnicode")]))
+            glyphs = {text: order[int.from_bytes(gids[2 * cid:2 * cid + 2], "big")]
+                      for cid, text in chars.items()}
+            fonts.append(("Type 42", name, glyphs))
+        elif b"/Subtype /Type3" in head:
+            name = re.search(rb"/BaseFont /([^\s/]+)", head).group(1).decode()
+            procs = objs[_ref(head, b"CharProcs")]
+            fonts.append(("Type 3", name, {n.decode(): n.decode()
+                                           for n in re.findall(rb"/([^\s/]+) \d+ 0 R", procs)}))
+        elif re.search(rb"/Type /Font[\s>]", head) and b"/Subtype /Type0" not in head:
+            pytest.fail(f"a font that is not embedded: {head[:200]!r}")
+    return fonts
 
 
 @pytest.mark.slow
-def test_experiments_figures_keep_every_text_inside_and_apart(tmp_path, monkeypatch):
-    found = _drawn_texts(monkeypatch)
-    _build(tmp_path, EXPERIMENTS.format(drive="", more=""))
-    _check(found, 3)  # the map, Fig. 5, Fig. 2
-
-
-@pytest.mark.filterwarnings("ignore::pendulab.errors.AccuracyWarning")  # cells on a/l = 0, w = 0
-def test_hill_drive_map_keeps_its_longer_title_inside(tmp_path, monkeypatch):
-    found = _drawn_texts(monkeypatch)
-    _build(tmp_path, EXPERIMENTS.format(drive='drive = "a*cos(omega*t) + a*cos(2*omega*t)"',
-                                        more='criteria = ["bounded", "floquet"]\nfig5 = false\nfig2 = false'))
-    _check(found, 1)
-    titles = [t for t, _ in found[0][0] if "monodromy" in t]
-    assert titles, "the Hill drive's map title names the monodromy matrix"
-
-
-@pytest.mark.parametrize("length, t_end, more, figures", [
-    ("L0 + v0*t", "20.0", "", 2),
-    ("L0*(1 + eps*sin(Omega*t))", "10.0", "values = {eps = 0.05, Omega = 6.26}", 1),
-])
-def test_motion_figures_keep_every_text_inside_and_apart(tmp_path, monkeypatch, length, t_end, more,
-                                                          figures):
-    found = _drawn_texts(monkeypatch)
-    _build(tmp_path, MOTION.format(length=length, t_end=t_end, more=more))
-    _check(found, figures)
+@pytest.mark.parametrize("scene", list(SCENES))
+def test_pdf_fonts_are_embedded_with_the_glyphs_of_their_characters(built, scene):
+    from matplotlib import font_manager
+    _, directory = built[scene]
+    pdfs = sorted(directory.glob("*.pdf"))
+    assert len(pdfs) == FIGURES[scene]
+    dejavu = font_manager.get_font(font_manager.findfont("DejaVu Sans"))
+    for pdf in pdfs:
+        fonts = _embedded_fonts(pdf.read_bytes())
+        assert fonts, pdf.name
+        for kind, name, glyphs in fonts:
+            assert glyphs, (pdf.name, name)
+            if kind == "Type 42" and name.endswith("+DejaVuSans"):
+                # each character's glyph in the subset is the font file's glyph of that character
+                for text, glyph in glyphs.items():
+                    assert glyph == dejavu.get_glyph_name(dejavu.get_char_index(ord(text))), \
+                        (pdf.name, text, glyph)

@@ -77,6 +77,28 @@ _SUBSETS = {}
 MAX_SUBSETS = 256
 
 
+#: Characters every embedded font subset holds besides those its figure draws: ASCII and the
+#: Greek letters, sub- and superscripts and signs of the products' labels.  The figures of a
+#: process then ask fontTools for the same subset again and again (one subset per font and
+#: process instead of one per figure), at the price of some glyphs a figure does not use.
+COMMON_CHARACTERS = ("".join(chr(c) for c in range(0x20, 0x7F))
+                     + "θτωνπΩεΔμλ" "₀₁₂₃₄₅₆₇₈₉" "⁰¹²³⁴⁵⁶⁷⁸⁹⁻" "−±×·⟨⟩′²")
+
+#: font file -> frozenset of the glyph indices of COMMON_CHARACTERS in it
+_COMMON = {}
+
+
+def _common_glyphs(fontfile):
+    """The glyph indices of :data:`COMMON_CHARACTERS` that ``fontfile`` has (0, missing, left out)."""
+    hit = _COMMON.get(fontfile)
+    if hit is None:
+        from matplotlib.font_manager import get_font
+        font = get_font(fontfile)
+        hit = _COMMON[fontfile] = frozenset(
+            g for g in (font.get_char_index(ord(c)) for c in COMMON_CHARACTERS) if g)
+    return hit
+
+
 class _Nothing:
     def __enter__(self):
         return self
@@ -114,14 +136,17 @@ class _SavedSubset:
 class _shared_font_subsets:
     """While a PDF is written: each (font, glyph set) is subset by fontTools once per process.
 
-    matplotlib embeds every font of a PDF as a subset made by fontTools
-    (``matplotlib.backends._backend_pdf_ps.get_glyphs_subset``), which reads
-    and prunes the whole font file again for each figure, about 0.07 s per
-    font; the figures of a build repeat the same fonts with the same glyphs
-    (the three maps of the experiments).  Inside this context manager the
-    subset is made the first time and its bytes (what
+    matplotlib embeds every font of a PDF (Type 42) as a subset made by
+    fontTools (``matplotlib.backends._backend_pdf_ps.get_glyphs_subset``),
+    which reads and prunes the whole font file again for each figure, about
+    0.07 s per font.  Inside this context manager the glyphs asked for are
+    joined with those of :data:`COMMON_CHARACTERS`, so that the figures of a
+    process, whose labels differ in a few characters, ask for the same glyph
+    set; the subset is made the first time and its bytes (what
     ``font_as_file(subset.font)`` writes) are given back afterwards: the same
     bytes, since fontTools' subset is a function of the font and the glyphs.
+    The PDF still maps each character it shows to its glyph (matplotlib's
+    CIDToGIDMap from the subset's glyph index map) and lists only those.
     Outside it (or with a matplotlib without these functions) nothing changes.
     """
 
@@ -138,9 +163,9 @@ class _shared_font_subsets:
         real, font_as_file = self._real, pdf_ps.font_as_file
 
         def get_glyphs_subset(fontfile, glyphs):
-            glyphs = frozenset(glyphs)
-            key = (fontfile, glyphs)
             try:
+                glyphs = frozenset(glyphs) | _common_glyphs(fontfile)
+                key = (fontfile, glyphs)
                 hit = _SUBSETS.get(key)
             except TypeError:  # an unhashable font file object: no sharing
                 return real(fontfile, glyphs)

@@ -219,8 +219,10 @@ def _matplotlib():
     return pyplot("experiment")
 
 
+#: ps.fonttype too: matplotlib's PDF backend sizes its font subsets by it, and at its default (3)
+#: puts the characters above U+00FF (θ, ω, −) in a second copy of DejaVu Sans in every PDF
 RC = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "savefig.dpi": 150,
-      "pdf.fonttype": 42, "path.simplify": False}
+      "pdf.fonttype": 42, "ps.fonttype": 42, "path.simplify": False}
 
 
 def save(fig):
