@@ -90,7 +90,8 @@ def _recording_save(found):
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
-    """{scene: (recorded texts per figure, output directory)} of the SCENES, built once."""
+    """{scene: (recorded texts per figure, output directory, font subsets made)} of the SCENES,
+    built once (each from no font subsets made)."""
     from pendulab import figures
     from pendulab.build import build
     from pendulab.errors import AccuracyWarning
@@ -102,19 +103,21 @@ def built(tmp_path_factory):
         found = []
         with pytest.MonkeyPatch.context() as mp:
             mp.setattr(figures, "save", _recording_save(found))
+            mp.setattr(figures, "_SUBSETS", {})
             with warnings.catch_warnings():
                 # the Hill drive's cells on a/l = 0 or omega0/omega = 0
                 warnings.simplefilter("ignore", AccuracyWarning)
                 build(root / "s", root / "g", force=True, log=lambda m: None, jobs=1)
+            subsets = list(figures._SUBSETS)
         (scene_dir,) = [d for d in (root / "g").iterdir() if d.is_dir()]
-        out[name] = (found, scene_dir)
+        out[name] = (found, scene_dir, subsets)
     return out
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("scene", list(SCENES))
 def test_every_text_inside_the_figure_and_apart(built, scene):
-    found, _ = built[scene]
+    found, _, _ = built[scene]
     assert len(found) == FIGURES[scene]
     for texts, box in found:
         assert texts
@@ -191,7 +194,7 @@ def _embedded_fonts(pdf):
 @pytest.mark.parametrize("scene", list(SCENES))
 def test_pdf_fonts_are_embedded_with_the_glyphs_of_their_characters(built, scene):
     from matplotlib import font_manager
-    _, directory = built[scene]
+    _, directory, _ = built[scene]
     pdfs = sorted(directory.glob("*.pdf"))
     assert len(pdfs) == FIGURES[scene]
     dejavu = font_manager.get_font(font_manager.findfont("DejaVu Sans"))
@@ -205,3 +208,11 @@ def test_pdf_fonts_are_embedded_with_the_glyphs_of_their_characters(built, scene
                 for text, glyph in glyphs.items():
                     assert glyph == dejavu.get_glyph_name(dejavu.get_char_index(ord(text))), \
                         (pdf.name, text, glyph)
+
+
+@pytest.mark.slow
+def test_the_figures_of_a_product_share_one_subset_per_font(built):
+    """The experiments' three PDFs (a map, Fig. 5, Fig. 2) ask fontTools for one subset of
+    DejaVu Sans: the characters they draw are among pendulab.figures.COMMON_CHARACTERS."""
+    _, _, subsets = built["experiments"]
+    assert len(subsets) == 1 and subsets[0][0].endswith("DejaVuSans.ttf")

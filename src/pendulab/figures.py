@@ -8,7 +8,10 @@ run (``pendulab build`` must reproduce generated/ byte for byte).
   one-line :class:`~pendulab.errors.InputError` naming the product when
   matplotlib (the "figures" extra) is not installed;
 * :func:`save` - {".png": bytes, ".pdf": bytes} of a figure at ``dpi``;
-* :func:`margins` - fixed margins in inches in place of ``tight_layout``.
+* :func:`margins` - fixed margins in inches in place of ``tight_layout``;
+* :func:`unicode_expr`, :func:`power_of_ten` - labels in plain Unicode text
+  (DejaVu Sans has the glyphs), which matplotlib draws without its mathtext
+  parser (a parse per label and dpi, PNG and PDF).
 
 >>> matplotlib, plt = pyplot("demo")
 >>> fig, ax = plt.subplots()
@@ -67,6 +70,79 @@ def margins(fig, left, right, bottom, top, wspace=0.0, hspace=0.0):
                         wspace=wspace / aw, hspace=hspace / ah)
 
 
+#: digits and signs to superscripts
+SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
+
+
+def unicode_expr(expr):
+    """A SymPy expression on one line of Unicode text for a figure label.
+
+    Symbols as SymPy's pretty printer names them (subscripts, Greek letters),
+    products with a middle dot, integer powers as superscripts, square roots
+    with a radical sign, other powers with a caret, and the true minus sign.
+
+    >>> import sympy as sp
+    >>> unicode_expr(sp.sympify("L0 + v0*t"))
+    'L₀ + t·v₀'
+    >>> unicode_expr(sp.sympify("L0*(1 + eps*sin(Omega*t))"))
+    'L₀·(eps·sin(Ω·t) + 1)'
+    >>> unicode_expr(sp.sympify("sqrt(L0**2 - a*t**3/2)"))
+    '√(L₀² − a·t³/2)'
+    >>> unicode_expr(sp.sympify("L0*(1 + t/T)**(-3/4)"))
+    'L₀/(1 + t/T)^(3/4)'
+    """
+    from sympy.printing.pretty.pretty_symbology import pretty_use_unicode
+    # pretty_symbol answers in ASCII unless unicode is switched on (SymPy switches it by the
+    # encoding of sys.stdout): on for this call only, the same text everywhere
+    before = pretty_use_unicode(True)
+    try:
+        return _unicode_printer().doprint(expr).replace("-", "\u2212")
+    finally:
+        pretty_use_unicode(before)
+
+
+def _unicode_printer():
+    from sympy import S
+    from sympy.printing.precedence import PRECEDENCE
+    from sympy.printing.pretty.pretty_symbology import pretty_symbol
+    from sympy.printing.str import StrPrinter
+
+    class UnicodePrinter(StrPrinter):
+        def _print_Symbol(self, expr):
+            return pretty_symbol(expr.name)
+
+        def _print_Mul(self, expr):
+            return super()._print_Mul(expr).replace("*", "·")
+
+        def _print_Pow(self, expr, rational=False):
+            base, exp = expr.as_base_exp()
+            if exp is S.Half:
+                return f"√({self._print(base)})"
+            if exp.is_Integer and exp > 0 or exp.is_Integer and not base.is_Atom:
+                return self.parenthesize(base, PRECEDENCE["Pow"], strict=False) + \
+                    str(exp).translate(SUPERSCRIPT)
+            if exp.is_Integer or exp.is_Rational and exp < 0:
+                return super()._print_Pow(expr, rational)
+            return (self.parenthesize(base, PRECEDENCE["Pow"], strict=False) + "^"
+                    + (self._print(exp) if exp.is_Atom and not exp.is_Rational else f"({self._print(exp)})"))
+
+    return UnicodePrinter()
+
+
+def power_of_ten(x, pos=None):
+    """A tick label of a logarithmic axis, ``10⁻²``, in place of matplotlib's mathtext one.
+
+    >>> power_of_ten(1e-18), power_of_ten(100.0), power_of_ten(1.0), power_of_ten(0.02)
+    ('10⁻¹⁸', '10²', '10⁰', '0.02')
+    """
+    import math
+    if x > 0:
+        k = round(math.log10(x))
+        if math.isclose(x, 10.0 ** k, rel_tol=1e-9):
+            return "10" + str(k).translate(SUPERSCRIPT)
+    return f"{x:g}".replace("-", "\u2212")
+
+
 # ---------------------------------------------------------------------------
 # PDF font subsets, made once per process
 # ---------------------------------------------------------------------------
@@ -84,18 +160,23 @@ MAX_SUBSETS = 256
 COMMON_CHARACTERS = ("".join(chr(c) for c in range(0x20, 0x7F))
                      + "θτωνπΩεΔμλ" "₀₁₂₃₄₅₆₇₈₉" "⁰¹²³⁴⁵⁶⁷⁸⁹⁻" "−±×·⟨⟩′²")
 
-#: font file -> frozenset of the glyph indices of COMMON_CHARACTERS in it
+#: Glyphs by name besides: the ligatures matplotlib's text layout puts in place of "fi", "fl".
+COMMON_GLYPH_NAMES = ("fi", "fl")
+
+#: font file -> frozenset of the glyph indices of COMMON_CHARACTERS and COMMON_GLYPH_NAMES in it
 _COMMON = {}
 
 
 def _common_glyphs(fontfile):
-    """The glyph indices of :data:`COMMON_CHARACTERS` that ``fontfile`` has (0, missing, left out)."""
+    """The glyph indices of :data:`COMMON_CHARACTERS` and :data:`COMMON_GLYPH_NAMES` that
+    ``fontfile`` has (those it lacks, index 0, left out)."""
     hit = _COMMON.get(fontfile)
     if hit is None:
         from matplotlib.font_manager import get_font
         font = get_font(fontfile)
-        hit = _COMMON[fontfile] = frozenset(
-            g for g in (font.get_char_index(ord(c)) for c in COMMON_CHARACTERS) if g)
+        glyphs = [font.get_char_index(ord(c)) for c in COMMON_CHARACTERS]
+        glyphs += [font.get_name_index(n) for n in COMMON_GLYPH_NAMES]
+        hit = _COMMON[fontfile] = frozenset(g for g in glyphs if g)
     return hit
 
 

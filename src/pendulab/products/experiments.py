@@ -275,8 +275,9 @@ def figure_map(m, limits, title):
                 ax.set_xlim(0, 1)
                 ax.set_ylim(0, 1)
                 ax.set_title(y=1.0, label=f"{LABELS[c]}: {m['counts'][c]} stable")
-                if k // ncol == nrow - 1:
+                if k + ncol >= len(crits):  # the lowest panel of its column (the last row, or above an empty cell)
                     ax.set_xlabel("a/l")
+                    ax.xaxis.set_tick_params(labelbottom=True)
                 if k % ncol == 0:
                     ax.set_ylabel("ω₀/ω")
             axes[0][0].legend(loc="upper left", frameon=False)
@@ -293,6 +294,8 @@ def figure_map(m, limits, title):
 
 def figure_fig5(r):
     import numpy as np
+
+    from pendulab.figures import power_of_ten
     matplotlib, plt = _matplotlib()
     with matplotlib.rc_context(RC):
         fig, (ax, ax2) = plt.subplots(2, 1, figsize=(6.6, 5.0), sharex=True,
@@ -310,6 +313,9 @@ def figure_fig5(r):
             ax.set_title(y=1.0, label=f"a/l = 1/5, ω₀/ω = 1/20, θ(0) = {r['theta'][0]:g}, "
                          f"dθ/dτ(0) = 0.01 (θ₀ = {_minus(r['theta0'], '.3g')}, θ₁ = {_minus(r['theta1'], '.3g')})")
             ax.legend(loc="lower left", frameon=False)
+            # 10⁻² as text: matplotlib's own labels are mathtext, parsed per label and dpi
+            ax2.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(power_of_ten))
+            ax2.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
             ax2.set_xlabel("τ")
             ax2.set_ylabel("|series − RK4|")
             ax2.legend(loc="lower right", frameon=False)
