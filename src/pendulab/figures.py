@@ -1,13 +1,14 @@
 """Figures as deterministic PNG and PDF bytes (the products ``motion`` and ``experiments``).
 
 matplotlib writes the date and its own version into PNG and PDF metadata;
-:func:`save` removes them, so the same figure gives the same bytes on every
+:func:`save` leaves them out, so the same figure gives the same bytes on every
 run (``pendulab build`` must reproduce generated/ byte for byte).
 
 * :func:`pyplot` - (matplotlib, matplotlib.pyplot) on the Agg backend, or a
   one-line :class:`~pendulab.errors.InputError` naming the product when
   matplotlib (the "figures" extra) is not installed;
 * :func:`save` - {".png": bytes, ".pdf": bytes} of a figure at ``dpi``;
+* :func:`png` - the PNG alone (RGB when the figure is opaque);
 * :func:`margins` - fixed margins in inches in place of ``tight_layout``;
 * :func:`unicode_expr`, :func:`power_of_ten` - labels in plain Unicode text
   (DejaVu Sans has the glyphs), which matplotlib draws without its mathtext
@@ -24,8 +25,8 @@ run (``pendulab build`` must reproduce generated/ byte for byte).
 
 from pendulab.errors import InputError
 
-#: metadata keys matplotlib fills with a date or its version, removed (None) on save
-PNG_METADATA = {"Software": None}
+#: metadata keys matplotlib fills with a date or its version, removed (None) on save (the PNG,
+#: written by :func:`png`, has no text chunks at all)
 PDF_METADATA = {"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None}
 
 
@@ -45,13 +46,46 @@ def pyplot(what):
 def save(fig, dpi=150):
     """{".png": bytes, ".pdf": bytes} of ``fig`` (PNG at ``dpi``), no dates or versions inside."""
     import io
-    out = {}
-    for ext, meta, kw in ((".png", PNG_METADATA, {"dpi": dpi}), (".pdf", PDF_METADATA, {})):
-        buf = io.BytesIO()
-        with _shared_font_subsets() if ext == ".pdf" else _nothing():
-            fig.savefig(buf, format=ext[1:], metadata=meta, **kw)
-        out[ext] = buf.getvalue()
-    return out
+    buf = io.BytesIO()
+    with _shared_font_subsets():
+        fig.savefig(buf, format="pdf", metadata=PDF_METADATA)
+    return {".png": png(fig, dpi), ".pdf": buf.getvalue()}
+
+
+def png(fig, dpi=150):
+    """PNG bytes of ``fig`` at ``dpi``: the pixels matplotlib's Agg canvas draws (as
+    ``savefig`` draws them), written by Pillow with no text chunks.
+
+    An opaque figure (every pixel's alpha 255, as the products' white ones) is written as RGB,
+    not RGBA: a quarter fewer bytes to compress (about a third less time) and a smaller file.
+
+    >>> import io
+    >>> from PIL import Image
+    >>> matplotlib, plt = pyplot("demo")
+    >>> fig = plt.figure(figsize=(2, 1))
+    >>> image = Image.open(io.BytesIO(png(fig, dpi=50)))
+    >>> plt.close(fig)
+    >>> image.mode, image.size, round(image.info["dpi"][0]), image.getpixel((0, 0))
+    ('RGB', (100, 50), 50, (255, 255, 255))
+    """
+    import io
+
+    import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from PIL import Image
+    canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+    before = fig.dpi
+    fig.dpi = dpi
+    try:
+        canvas.draw()
+        rgba = np.asarray(canvas.buffer_rgba())
+        image = Image.fromarray(np.ascontiguousarray(rgba[..., :3]) if (rgba[..., 3] == 255).all()
+                                else np.array(rgba))
+    finally:
+        fig.dpi = before
+    buf = io.BytesIO()
+    image.save(buf, format="png", dpi=(dpi, dpi))
+    return buf.getvalue()
 
 
 def margins(fig, left, right, bottom, top, wspace=0.0, hspace=0.0):
@@ -178,18 +212,6 @@ def _common_glyphs(fontfile):
         glyphs += [font.get_name_index(n) for n in COMMON_GLYPH_NAMES]
         hit = _COMMON[fontfile] = frozenset(g for g in glyphs if g)
     return hit
-
-
-class _Nothing:
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        return False
-
-
-def _nothing():
-    return _Nothing()
 
 
 class _SavedFont:
