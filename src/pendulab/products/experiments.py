@@ -241,11 +241,37 @@ def _minus(x, spec):
     return format(x, spec).replace("-", "\u2212")
 
 
-def figure_map(m, limits, title):
+def region_paths(limits):
+    """(shaded, edge): matplotlib Paths of the Floquet-stable region of ``limits`` (the fine
+    Floquet map, 1 = stable, on region_values x region_values) and of its edge.
+
+    The contours contourf(levels=[0.5, 1.5]) and contour(levels=[0.5]) would trace, by the
+    same contour generator (contourpy, mpl2014, corner mask), made once for every panel of
+    every map instead of twice per panel.
+    """
+    import contourpy
+    import numpy as np
+    from matplotlib.path import Path
+    values = np.asarray(limits["region_values"], dtype=float)
+    x, y = np.meshgrid(values, values)
+    gen = contourpy.contour_generator(x, y, np.asarray(limits["region"], dtype=float), name="mpl2014",
+                                      corner_mask=True, line_type=contourpy.LineType.SeparateCode,
+                                      fill_type=contourpy.FillType.OuterCode)
+
+    def path(vertices, codes):
+        return Path(np.concatenate(vertices), np.concatenate(codes)) if vertices else Path(np.empty((0, 2)))
+
+    return path(*gen.filled(0.5, 1.5)), path(*gen.lines(0.5))
+
+
+def figure_map(m, limits, title, region=None):
     """2 x 2 panels (one per criterion): stable cells as open circles (as in the source), the
-    Floquet region shaded, eq. 28 (solid) and exact (dashed) limits of a/l drawn over them."""
+    Floquet region shaded, eq. 28 (solid) and exact (dashed) limits of a/l drawn over them.
+    ``region``: :func:`region_paths` of ``limits`` (made here if not given)."""
     import numpy as np
     matplotlib, plt = _matplotlib()
+    from matplotlib.patches import PathPatch
+    shaded, edge = region_paths(limits) if region is None else region
     crits = list(m["maps"])
     ncol = 2 if len(crits) > 1 else 1
     nrow = (len(crits) + ncol - 1) // ncol
@@ -258,13 +284,15 @@ def figure_map(m, limits, title):
         try:
             n = len(a)
             ms = max(0.6, min(4.0, 220.0 / max(n, 1)))
-            fw = np.asarray(limits["region_values"])
             from matplotlib.lines import Line2D
             for k, c in enumerate(crits):
                 ax = axes[k // ncol][k % ncol]
-                region = limits["region"].astype(float)
-                ax.contourf(fw, fw, region, levels=[0.5, 1.5], colors=["0.85"])
-                ax.contour(fw, fw, region, levels=[0.5], colors=["C0"], linestyles=["--"], linewidths=[1.0])
+                # as contourf (no antialiasing, below the lines) and contour would draw them;
+                # add_artist, not add_patch, which walks every segment for the data limits (set below)
+                ax.add_artist(PathPatch(shaded, facecolor="0.85", edgecolor="none", linewidth=0,
+                                        antialiased=False, zorder=1))
+                ax.add_artist(PathPatch(edge, fill=False, edgecolor="C0", linestyle="--", linewidth=1.0,
+                                        zorder=2))
                 ii, jj = np.nonzero(m["maps"][c])
                 ax.plot(a[jj], w[ii], "o", mfc="none", mec="k", ms=ms, mew=0.4, ls="none")
                 if "eq28" in limits["curves"]:
@@ -355,13 +383,14 @@ def figures(results):
     from pendulab.numerics.experiments import INITIAL
     files = {}
     names = {"text": "fig3-text", "caption": "fig3-caption", "fig4": "fig4"}
+    region = region_paths(results["fine"]) if results["maps"] else None
     for name, m in results["maps"].items():
         th, om = INITIAL[name]
         # two lines: on one the suptitle is wider than the figure (clipped at both edges)
         title = (f"θ(0) = {_minus(th, 'g')}, dθ/dτ(0) = {_minus(om, 'g')}, {len(m['a_over_l'])}² pairs\n"
                  + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if results["fine"]["curves"]
                     else "shaded: Floquet-stable (monodromy); dashed: its edge"))
-        for ext, data in figure_map(m, results["fine"], title).items():
+        for ext, data in figure_map(m, results["fine"], title, region).items():
             files[names[name] + ext] = data
     if "fig5" in results:
         for ext, data in figure_fig5(results["fig5"]).items():
