@@ -103,12 +103,22 @@ def test_shared_pdf_font_subsets_give_matplotlibs_bytes():
             first = figures.save(fig)[".pdf"]
             made = len(figures._SUBSETS)
             second = figures.save(fig)[".pdf"]      # every subset from the memo
+            # matplotlib's own subsets (fontTools each time) of the same glyphs: those the
+            # figure draws and figures.COMMON_CHARACTERS'
             plain = io.BytesIO()
-            fig.savefig(plain, format="pdf", metadata=figures.PDF_METADATA)
+            _backend_pdf_ps.get_glyphs_subset = \
+                lambda fontfile, glyphs: real(fontfile, frozenset(glyphs) | figures._common_glyphs(fontfile))
+            try:
+                fig.savefig(plain, format="pdf", metadata=figures.PDF_METADATA)
+            finally:
+                _backend_pdf_ps.get_glyphs_subset = real
+            unshared = io.BytesIO()
+            fig.savefig(unshared, format="pdf", metadata=figures.PDF_METADATA)
         finally:
             plt.close(fig)
     assert made >= 2 and len(figures._SUBSETS) == made
     assert first == second == plain.getvalue()
+    assert unshared.getvalue() != first  # the common glyphs are in the shared subsets only
     assert _backend_pdf_ps.get_glyphs_subset is real  # matplotlib's function is back in place
 
 

@@ -49,8 +49,8 @@ FINE = 301
 #: Points of omega0/omega at which the eq. 28 curves of the figures are computed.
 CURVE = 41
 
-LABELS = {"mean": r"$|\langle\theta\rangle| < 0.1$", "mean-abs": r"$\langle|\theta|\rangle < 0.1$",
-          "bounded": r"$|\theta| < \pi/2$", "floquet": "Floquet (linear)"}
+#: Panel titles of the maps, plain Unicode text (DejaVu Sans has the glyphs; no mathtext parse per figure).
+LABELS = {"mean": "|⟨θ⟩| < 0.1", "mean-abs": "⟨|θ|⟩ < 0.1", "bounded": "|θ| < π/2", "floquet": "Floquet (linear)"}
 
 
 def _round(v):
@@ -150,9 +150,10 @@ def _sweep():
 
 
 def _fine(ctx, spec, mathieu, w):
-    """What the map figures draw under the cells (once per process and scene): for Mathieu's
-    equation the eq. 28 curves on CURVE points and the Floquet region on FINE x FINE points;
-    for a Hill drive the Floquet (monodromy) region on the map's own grid ``w``."""
+    """What the map figures draw under the cells and its traced outline (:func:`region_paths`),
+    made once per process and scene: for Mathieu's equation the eq. 28 curves on CURVE points
+    and the Floquet region on FINE x FINE points; for a Hill drive the Floquet (monodromy)
+    region on the map's own grid ``w``."""
     from pendulab.numerics import experiments as E
     key = "experiments:fine"
     if key not in ctx.memo:
@@ -164,6 +165,7 @@ def _fine(ctx, spec, mathieu, w):
         else:
             ctx.memo[key] = {"w0_over_w": w, "curves": {}, "region_values": w,
                              "region": E.floquet_region(spec, w)}
+        ctx.memo[key] = (ctx.memo[key], region_paths(ctx.memo[key]))
     return ctx.memo[key]
 
 
@@ -188,9 +190,9 @@ def _part(ctx, options, part):
                              prune=options["prune"], **kw)
         files = {}
         if figures:
-            fine = _fine(ctx, spec, mathieu, m["w0_over_w"])
+            fine, region = _fine(ctx, spec, mathieu, m["w0_over_w"])
             files = {MAP_FILES[name] + ext: data
-                     for ext, data in figure_map(m, fine, map_title(name, m, fine)).items()}
+                     for ext, data in figure_map(m, fine, map_title(name, m, fine), region).items()}
         return {"map": m, "files": files}
     if part == "summary":
         out = {"body": spec.body, "inertia_ratio": str(E.inertia_ratio(spec)), "limits": None}
@@ -286,8 +288,10 @@ def _matplotlib():
     return pyplot("experiment")
 
 
+#: ps.fonttype too: matplotlib's PDF backend sizes its font subsets by it, and at its default (3)
+#: puts the characters above U+00FF (θ, ω, −) in a second copy of DejaVu Sans in every PDF
 RC = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "savefig.dpi": 150,
-      "pdf.fonttype": 42, "path.simplify": False}
+      "pdf.fonttype": 42, "ps.fonttype": 42, "path.simplify": False}
 
 
 def save(fig):
@@ -296,29 +300,68 @@ def save(fig):
     return save_bytes(fig, dpi=RC["savefig.dpi"])
 
 
-def figure_map(m, limits, title):
+def _margins(fig, **inches):
+    from pendulab.figures import margins
+    margins(fig, **inches)
+
+
+def _minus(x, spec):
+    """``format(x, spec)`` with a true minus sign (U+2212), as mathtext wrote it."""
+    return format(x, spec).replace("-", "\u2212")
+
+
+def region_paths(limits):
+    """(shaded, edge): matplotlib Paths of the Floquet-stable region of ``limits`` (the fine
+    Floquet map, 1 = stable, on region_values x region_values) and of its edge.
+
+    The contours contourf(levels=[0.5, 1.5]) and contour(levels=[0.5]) would trace, by the
+    same contour generator (contourpy, mpl2014, corner mask), made once for every panel of
+    every map instead of twice per panel.
+    """
+    import contourpy
+    import numpy as np
+    from matplotlib.path import Path
+    values = np.asarray(limits["region_values"], dtype=float)
+    x, y = np.meshgrid(values, values)
+    gen = contourpy.contour_generator(x, y, np.asarray(limits["region"], dtype=float), name="mpl2014",
+                                      corner_mask=True, line_type=contourpy.LineType.SeparateCode,
+                                      fill_type=contourpy.FillType.OuterCode)
+
+    def path(vertices, codes):
+        return Path(np.concatenate(vertices), np.concatenate(codes)) if vertices else Path(np.empty((0, 2)))
+
+    return path(*gen.filled(0.5, 1.5)), path(*gen.lines(0.5))
+
+
+def figure_map(m, limits, title, region=None):
     """2 x 2 panels (one per criterion): stable cells as open circles (as in the source), the
-    Floquet region shaded, eq. 28 (solid) and exact (dashed) limits of a/l drawn over them."""
+    Floquet region shaded, eq. 28 (solid) and exact (dashed) limits of a/l drawn over them.
+    ``region``: :func:`region_paths` of ``limits`` (made here if not given)."""
     import numpy as np
     matplotlib, plt = _matplotlib()
+    from matplotlib.patches import PathPatch
+    shaded, edge = region_paths(limits) if region is None else region
     crits = list(m["maps"])
     ncol = 2 if len(crits) > 1 else 1
     nrow = (len(crits) + ncol - 1) // ncol
     a = np.asarray(m["a_over_l"])
     w = np.asarray(m["w0_over_w"])
     with matplotlib.rc_context(RC):
-        fig, axes = plt.subplots(nrow, ncol, figsize=(6.6, 3.3 * nrow + 0.4), squeeze=False,
+        # the suptitle takes two lines (see figures()): 0.18 in more at the top than one line
+        fig, axes = plt.subplots(nrow, ncol, figsize=(6.6, 3.3 * nrow + 0.58), squeeze=False,
                                  sharex=True, sharey=True)
         try:
             n = len(a)
             ms = max(0.6, min(4.0, 220.0 / max(n, 1)))
-            fw = np.asarray(limits["region_values"])
             from matplotlib.lines import Line2D
             for k, c in enumerate(crits):
                 ax = axes[k // ncol][k % ncol]
-                region = limits["region"].astype(float)
-                ax.contourf(fw, fw, region, levels=[0.5, 1.5], colors=["0.85"])
-                ax.contour(fw, fw, region, levels=[0.5], colors=["C0"], linestyles=["--"], linewidths=[1.0])
+                # as contourf (no antialiasing, below the lines) and contour would draw them;
+                # add_artist, not add_patch, which walks every segment for the data limits (set below)
+                ax.add_artist(PathPatch(shaded, facecolor="0.85", edgecolor="none", linewidth=0,
+                                        antialiased=False, zorder=1))
+                ax.add_artist(PathPatch(edge, fill=False, edgecolor="C0", linestyle="--", linewidth=1.0,
+                                        zorder=2))
                 ii, jj = np.nonzero(m["maps"][c])
                 ax.plot(a[jj], w[ii], "o", mfc="none", mec="k", ms=ms, mew=0.4, ls="none")
                 if "eq28" in limits["curves"]:
@@ -328,16 +371,19 @@ def figure_map(m, limits, title):
                 ax.add_line(Line2D([], [], ls="--", color="C0", lw=1.0, label="exact (Floquet)"))
                 ax.set_xlim(0, 1)
                 ax.set_ylim(0, 1)
-                ax.set_title(f"{LABELS[c]}: {m['counts'][c]} stable")
-                if k // ncol == nrow - 1:
-                    ax.set_xlabel(r"$a/l$")
+                ax.set_title(y=1.0, label=f"{LABELS[c]}: {m['counts'][c]} stable")
+                if k + ncol >= len(crits):  # the lowest panel of its column (the last row, or above an empty cell)
+                    ax.set_xlabel("a/l")
+                    ax.xaxis.set_tick_params(labelbottom=True)
                 if k % ncol == 0:
-                    ax.set_ylabel(r"$\omega_0/\omega$")
+                    ax.set_ylabel("ω₀/ω")
             axes[0][0].legend(loc="upper left", frameon=False)
             for k in range(len(crits), nrow * ncol):
                 axes[k // ncol][k % ncol].set_visible(False)
             fig.suptitle(title)
-            fig.tight_layout()
+            # fixed margins in inches (tick labels, axis labels, titles at RC's sizes) in place of
+            # tight_layout: one text-metrics pass less, and the same layout for PNG and PDF
+            _margins(fig, left=0.62, right=0.14, bottom=0.48, top=0.8, wspace=0.32, hspace=0.36)
             return save(fig)
         finally:
             plt.close(fig)
@@ -345,6 +391,8 @@ def figure_map(m, limits, title):
 
 def figure_fig5(r):
     import numpy as np
+
+    from pendulab.figures import power_of_ten
     matplotlib, plt = _matplotlib()
     with matplotlib.rc_context(RC):
         fig, (ax, ax2) = plt.subplots(2, 1, figsize=(6.6, 5.0), sharex=True,
@@ -358,14 +406,17 @@ def figure_fig5(r):
                         label=f"series (eq. 23), order {n}")
                 ax2.semilogy(tau, np.abs(th - r["theta"]) + 1e-18, styles[k % 3], color=f"C{3 + k}", lw=0.8,
                              label=f"order {n}: max {r['error'][n]:.1e}")
-            ax.set_ylabel(r"$\theta(\tau)$")
-            ax.set_title(rf"$a/l = 1/5$, $\omega_0/\omega = 1/20$, $\theta(0) = {r['theta'][0]:g}$, "
-                         rf"$\dot\theta(0) = 0.01$ ($\theta_0 = {r['theta0']:.3g}$, $\theta_1 = {r['theta1']:.3g}$)")
+            ax.set_ylabel("θ(τ)")
+            ax.set_title(y=1.0, label=f"a/l = 1/5, ω₀/ω = 1/20, θ(0) = {r['theta'][0]:g}, "
+                         f"dθ/dτ(0) = 0.01 (θ₀ = {_minus(r['theta0'], '.3g')}, θ₁ = {_minus(r['theta1'], '.3g')})")
             ax.legend(loc="lower left", frameon=False)
-            ax2.set_xlabel(r"$\tau$")
-            ax2.set_ylabel("|series $-$ RK4|")
+            # 10⁻² as text: matplotlib's own labels are mathtext, parsed per label and dpi
+            ax2.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(power_of_ten))
+            ax2.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+            ax2.set_xlabel("τ")
+            ax2.set_ylabel("|series − RK4|")
             ax2.legend(loc="lower right", frameon=False)
-            fig.tight_layout()
+            _margins(fig, left=0.8, right=0.12, bottom=0.45, top=0.3, hspace=0.15)
             return save(fig)
         finally:
             plt.close(fig)
@@ -377,20 +428,20 @@ def figure_fig2(r):
         fig, ax = plt.subplots(figsize=(6.6, 3.6))
         try:
             tau = r["tau"]
-            ax.plot(tau, r["theta"], "-", color="k", lw=0.9, label=r"$\theta(\tau)$ (RK4, eq. 7)")
+            ax.plot(tau, r["theta"], "-", color="k", lw=0.9, label="θ(τ) (RK4, eq. 7)")
             ax.plot(tau, r["slow"], "--", color="C3", lw=1.2, label="slow part (mean over one drive period)")
-            ax.set_xlabel(r"$\tau$")
-            ax.set_ylabel(r"$\theta$")
+            ax.set_xlabel("τ")
+            ax.set_ylabel("θ")
             ax2 = ax.twinx()
-            ax2.plot(tau, r["pivot"], ":", color="0.3", lw=0.6, label=r"pivot $y_0/a$")
-            ax2.set_ylabel(r"pivot $y_0/a$")
+            ax2.plot(tau, r["pivot"], ":", color="0.3", lw=0.6, label="pivot y₀/a")
+            ax2.set_ylabel("pivot y₀/a")
             ax2.set_ylim(-6, 6)
-            ax.set_title(rf"$\theta_0 = {r['theta0']:g}$, $\theta_1 = {r['theta1']:g}$, "
-                         rf"$\theta(0) = {r['theta'][0]:g}$, $\dot\theta(0) = 0$")
+            ax.set_title(y=1.0, label=f"θ₀ = {_minus(r['theta0'], 'g')}, θ₁ = {_minus(r['theta1'], 'g')}, "
+                         f"θ(0) = {_minus(r['theta'][0], 'g')}, dθ/dτ(0) = 0")
             h1, l1 = ax.get_legend_handles_labels()
             h2, l2 = ax2.get_legend_handles_labels()
             fig.legend(h1 + h2, l1 + l2, loc="lower center", ncol=3, frameon=False)
-            fig.tight_layout(rect=(0, 0.07, 1, 1))
+            _margins(fig, left=0.85, right=0.6, bottom=0.8, top=0.3)
             return save(fig)
         finally:
             plt.close(fig)
@@ -404,7 +455,8 @@ def map_title(name, m, fine):
     """The suptitle of map ``name``'s figure."""
     from pendulab.numerics.experiments import INITIAL
     th, om = INITIAL[name]
-    return (rf"$\theta(0) = {th:g}$, $\dot\theta(0) = {om:g}$, {len(m['a_over_l'])}$^2$ pairs; "
+    # two lines: on one the suptitle is wider than the figure (clipped at both edges)
+    return (f"θ(0) = {_minus(th, 'g')}, dθ/dτ(0) = {_minus(om, 'g')}, {len(m['a_over_l'])}² pairs\n"
             + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if fine["curves"]
                else "shaded: Floquet-stable (monodromy); dashed: its edge"))
 

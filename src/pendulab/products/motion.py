@@ -352,6 +352,25 @@ def save_figure(fig):
     return out[".png"], out[".pdf"]
 
 
+def _margins(fig, **inches):
+    """Fixed margins in inches in place of tight_layout (pendulab.figures.margins)."""
+    from pendulab.figures import margins
+    margins(fig, **inches)
+
+
+def _unicode(text):
+    """An expression (SymPy string or object) as plain Unicode text for a figure label:
+    no mathtext, which matplotlib parses once per label and dpi (PNG and PDF)."""
+    from pendulab.exprs import load_expr
+    from pendulab.figures import unicode_expr
+    return unicode_expr(load_expr(text) if isinstance(text, str) else text)
+
+
+def _number(x):
+    """``format(x, "g")`` with a true minus sign."""
+    return f"{x:g}".replace("-", "\u2212")
+
+
 _RC = {"figure.figsize": (6.3, 4.2), "font.size": 9, "axes.titlesize": 9,
        "legend.fontsize": 8, "pdf.compression": 6, "path.simplify": False}
 
@@ -368,24 +387,24 @@ def figure_theta(doc, keep):
             ax2 = None
         try:
             ax.plot(lin.t, lin.theta, "-", color="C0", lw=2.2, alpha=0.45,
-                    label=r"numerics, linear (002 eq. 4), DOP853")
+                    label="numerics, linear (002 eq. 4), DOP853")
             if "ref" in keep:
                 ax.plot(lin.t, keep["ref"], "--", color="k", lw=0.7,
-                        label=r"closed form $A z^{-1} J_1(z) + B z^{-1} Y_1(z)$")
+                        label="closed form A z⁻¹ J₁(z) + B z⁻¹ Y₁(z)")
                 ax2.plot(lin.t, lin.theta - keep["ref"], "-", color="k", lw=0.8)
-                ax2.set_ylabel(r"$\theta_{\rm num} - \theta_{\rm closed}$")
-                ax2.set_xlabel(r"$t$ (s)")
+                ax2.set_ylabel("num. − closed")
+                ax2.set_xlabel("t (s)")
                 ax2.ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
             else:
                 ax.plot(keep["non"].t, keep["non"].theta, "--", color="C1", lw=0.9,
-                        label=r"numerics, nonlinear (002 eq. 3)")
-                ax.set_xlabel(r"$t$ (s)")
-            ax.set_ylabel(r"$\theta$ (rad)")
-            ax.set_title(f"Variable-length pendulum, $L(t) = {_tex_length(doc['length'])}$, "
-                         f"$\\theta(0) = {doc['theta_0']:g}$")
+                        label="numerics, nonlinear (002 eq. 3)")
+                ax.set_xlabel("t (s)")
+            ax.set_ylabel("θ (rad)")
+            ax.set_title(y=1.0, label=f"Variable-length pendulum, L(t) = {_unicode(doc['length'])}, "
+                         f"θ(0) = {_number(doc['theta_0'])}")
             ax.legend(loc="upper right", frameon=False)
             fig.align_ylabels()
-            fig.tight_layout()
+            _margins(fig, left=0.85, right=0.15, bottom=0.45, top=0.3, hspace=0.25)
             return save_figure(fig)
         finally:
             plt.close(fig)
@@ -405,29 +424,30 @@ def figure_envelope(doc, keep, length):
     with matplotlib.rc_context(_RC):
         fig, (ax, ax2) = plt.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1]})
         try:
+            power = f"L^({_unicode(keep['exponent'])})"
             ax.loglog(ls, amp, "o", ms=3, mfc="none", color="C0",
-                      label=r"$|\theta|$ at the turning points ($\theta' = 0$), linear")
+                      label="|θ| at the turning points (θ′ = 0), linear")
             c = np.exp(np.mean(np.log(amp) - slope * np.log(ls)))
             grid = np.geomspace(ls.min(), ls.max(), 50)
             ax.loglog(grid, c * grid**slope, "-", color="C3", lw=1.0,
-                      label=f"least-squares fit: $L^{{{slope:.6f}}}$")
+                      label="least-squares fit: L^(" + f"{slope:.6f})".replace("-", "\u2212"))
             c2 = np.exp(np.mean(np.log(amp) - q * np.log(ls)))
             ax.loglog(grid, c2 * grid**q, "--", color="k", lw=0.8,
-                      label=f"$E/\\omega$ = const: $L^{{{keep['exponent']}}}$")
+                      label=f"E/ω = const: {power}")
             ax2.semilogx(ls, amp / (c2 * ls**q) - 1, ".-", color="C0", ms=3, lw=0.6)
             ax2.ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
-            ax2.set_ylabel(r"$|\theta| / (c L^{%s}) - 1$" % keep["exponent"])
+            ax2.set_ylabel(f"|θ|/(c {power}) − 1")
             for axis in (ax, ax2):
                 axis.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
                 axis.xaxis.set_minor_formatter(matplotlib.ticker.ScalarFormatter())
             ax.yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
             ax.yaxis.set_minor_formatter(matplotlib.ticker.ScalarFormatter())
-            ax2.set_xlabel(r"$L$ (m)")
-            ax.set_ylabel(r"$|\theta|$ (rad)")
-            ax.set_title(f"Amplitude law, $L(t) = {_tex_length(doc['length'])}$")
+            ax2.set_xlabel("L (m)")
+            ax.set_ylabel("|θ| (rad)")
+            ax.set_title(y=1.0, label=f"Amplitude law, L(t) = {_unicode(doc['length'])}")
             ax.legend(loc="best", frameon=False)
             fig.align_ylabels()
-            fig.tight_layout()
+            _margins(fig, left=0.85, right=0.15, bottom=0.45, top=0.3, hspace=0.25)
             return save_figure(fig)
         finally:
             plt.close(fig)

@@ -195,7 +195,7 @@ def figure_svg(doc):
             ax.set_ylim(0, 1)
             ax.set_xlabel(r"$a/l$")
             ax.set_ylabel(r"$\omega_0/\omega$")
-            ax.set_title(f"Inverted pendulum, I/(m l^2) = {doc['inertia_ratio']}: "
+            ax.set_title(y=1.0, label=f"Inverted pendulum, I/(m l^2) = {doc['inertia_ratio']}: "
                          "stable between lower and upper")
             ax.legend(loc="upper left", frameon=False)
             buffer = io.StringIO()
