@@ -123,6 +123,7 @@ def fast_displacement(inertia="I"):
     return result
 
 
+@functools.lru_cache(maxsize=None)
 def sin_split():
     """sin(psi + delta) to first order in delta (000 eq. 15), from its series."""
     eps = sp.Symbol("eps")
@@ -131,8 +132,23 @@ def sin_split():
 
 def period_average(expr):
     """<f> = (1/T) int_0^T f dt with T = 2 pi/omega (000, footnote 1 of sec. 2.3)."""
+    return sp.simplify(_mean(expr))
+
+
+def _mean(expr):
+    """The period mean of :func:`period_average`, not simplified.
+
+    A polynomial in cos(omega t), sin(omega t) (every torque here) is a Laurent
+    polynomial in z = e^{i omega t}; its mean over a period is the z^0 coefficient
+    (the mean of e^{i k omega t} is 0 for k != 0).  Anything else is integrated."""
+    z = sp.Symbol("z_", positive=True)
+    wt = S.omega * S.t
+    e = sp.expand(sp.expand(expr).subs({sp.cos(wt): (z + 1 / z) / 2,
+                                        sp.sin(wt): (z - 1 / z) / (2 * sp.I)}))
+    if not e.has(S.t):
+        return sp.Add(*[term for term in sp.Add.make_args(e) if not term.has(z)])
     period = 2 * sp.pi / S.omega
-    return sp.simplify(sp.integrate(sp.expand(expr), (S.t, 0, period)) / period)
+    return sp.integrate(sp.expand(expr), (S.t, 0, period)) / period
 
 
 @functools.lru_cache(maxsize=None)
@@ -151,8 +167,8 @@ def _averaged(inertia):
         "delta": d,
         "inertial_instantaneous": sp.expand(tau_i),
         "gravitational_instantaneous": sp.expand(tau_g),
-        "inertial": sp.factor(sp.trigsimp(period_average(tau_i))),
-        "gravitational": sp.factor(period_average(tau_g)),
+        "inertial": sp.factor(sp.trigsimp(_mean(tau_i))),
+        "gravitational": sp.factor(sp.trigsimp(_mean(tau_g))),
     }
 
 
@@ -211,6 +227,7 @@ def _ratio_at_small_psi(inertia):
     return sp.simplify(sp.limit(-torques["inertial"] / torques["gravitational"], psi, 0))
 
 
+@functools.lru_cache(maxsize=None)
 def _g_from_omega0():
     """g from the source's definition omega0^2 = m g l/I (000, after eq. 3)."""
     (g,) = sp.solve(sp.Eq(S.omega0**2, S.m * S.g * S.l / S.I), S.g)
