@@ -76,9 +76,23 @@ def ansatz(depth):
 
 
 def _frequency_part(expr, shift):
-    """Coefficient of e^{i shift tau} in ``expr`` (a sum of exponentials in tau)."""
-    e = sp.expand(sp.powsimp(sp.expand(expr * sp.exp(-sp.I * shift * S.tau)), combine="exp"))
-    return sp.Add(*[term for term in sp.Add.make_args(e) if not term.has(S.tau)])
+    """Coefficient of e^{i shift tau} in ``expr`` (a sum of exponentials in tau).
+
+    Each term of the expanded sum (exponentials kept whole: no power_exp split) is
+    a coefficient times exponentials; its frequency is the sum of their exponents
+    over i tau, compared with ``shift``."""
+    e = sp.expand(expr, power_exp=False, multinomial=False)
+    part = []
+    for term in sp.Add.make_args(e):
+        factors = sp.Mul.make_args(term)
+        exponent = sp.Add(*[f.args[0] for f in factors if isinstance(f, sp.exp)])
+        coefficient = sp.Mul(*[f for f in factors if not isinstance(f, sp.exp)])
+        frequency = sp.expand(exponent / (sp.I * S.tau))
+        if coefficient.has(S.tau) or frequency.has(S.tau):  # pragma: no cover
+            raise RuntimeError(f"{term} is not a multiple of an exponential in tau")
+        if sp.expand(frequency - shift) == 0:
+            part.append(coefficient)
+    return sp.expand(sp.Add(*part))
 
 
 def C(k):
@@ -301,7 +315,7 @@ def _small_parameter_exponent(mathieu, depth):
         rhs = _small_parameter_exponent(True, depth).rhs
         th0, th1 = _mathieu_parameters()
         physical = rhs.subs({S.theta0: th0, S.theta1: th1}, simultaneous=True)
-        return sp.Eq(sp.sin(sp.pi * lam / 2) ** 2, sp.factor(sp.cancel(physical)))
+        return sp.Eq(sp.sin(sp.pi * lam / 2) ** 2, sp.factor(sp.cancel(physical)), evaluate=False)
     # eps = s^2: theta0 -> s^2 theta0, theta1 -> s theta1; Delta(0) is then rational in s
     # and regular at s = 0, sin^2(pi s sqrt(theta0)/2) a power series in s; the O(eps)
     # term is the s^2 coefficient of their product (series by polynomial arithmetic).
@@ -311,12 +325,16 @@ def _small_parameter_exponent(mathieu, depth):
     scaled = delta0.subs({S.theta0: s**2 * S.theta0, S.theta1: s * S.theta1},
                          simultaneous=True)
     c = _taylor_coefficients(scaled, s, 2)
-    half = sp.expand(sp.series(sp.sin(sp.pi * x / 2) ** 2, x, 0, 3).removeO())
-    h = [half.coeff(x, k) * sp.sqrt(S.theta0) ** k for k in range(3)]
+    # Taylor coefficients f^(k)(0)/k! of sin^2(pi x/2), x = s sqrt(theta0)
+    half, derivative = sp.sin(sp.pi * x / 2) ** 2, []
+    for k in range(3):
+        derivative.append(half.subs(x, 0) / sp.factorial(k))
+        half = sp.diff(half, x)
+    h = [derivative[k] * sp.sqrt(S.theta0) ** k for k in range(3)]
     product = [sp.expand(sum(c[j] * h[k - j] for j in range(k + 1))) for k in range(3)]
     if product[0] != 0 or product[1] != 0:  # pragma: no cover
         raise RuntimeError("Delta(0) sin^2 has an O(1) or O(sqrt(eps)) term")
-    return sp.Eq(sp.sin(sp.pi * lam / 2) ** 2, sp.factor(product[2]))
+    return sp.Eq(sp.sin(sp.pi * lam / 2) ** 2, sp.factor(product[2]), evaluate=False)
 
 
 @functools.lru_cache(maxsize=None)
