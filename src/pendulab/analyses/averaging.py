@@ -37,7 +37,9 @@ import functools
 import sympy as sp
 
 from pendulab import symbols as S
-from pendulab.analyses.phelps_hunter import a_over_l, inertia_ratio, to_dimensionless, w0_over_w
+from pendulab.analyses.phelps_hunter import (
+    a_over_l, inertia_ratio, quadratic_root, to_dimensionless, w0_over_w,
+)
 from pendulab.errors import InputError
 from pendulab.systems import BODIES
 
@@ -133,7 +135,9 @@ def fast_displacement(inertia="I"):
 def sin_split():
     """sin(psi + delta) to first order in delta (000 eq. 15), from its series."""
     eps = sp.Symbol("eps")
-    return sp.series(sp.sin(psi + eps * delta), eps, 0, 2).removeO().subs(eps, 1)
+    f = sp.sin(psi + eps * delta)
+    # its Taylor polynomial f(0) + f'(0) eps, the derivative formed by SymPy
+    return (f.subs(eps, 0) + sp.diff(f, eps).subs(eps, 0) * eps).subs(eps, 1)
 
 
 def period_average(expr):
@@ -242,8 +246,10 @@ def _g_from_omega0():
 
 def _lower_bound(inertia):
     ratio = _ratio_at_small_psi(inertia).subs(S.g, _g_from_omega0())
-    solutions = [s for s in sp.solve(sp.Eq(ratio, 1), S.a) if s.is_positive is not False]
-    (a_min,) = solutions
+    # ratio = 1: a quadratic in a once the denominator is cleared (the ratio is a^2 times
+    # a factor free of a), its positive root by the quadratic formula
+    num, _ = sp.fraction(sp.cancel(ratio - 1))
+    a_min = quadratic_root(num, S.a, "eq. 18 at small psi")
     return to_dimensionless(a_min / S.l)
 
 

@@ -354,16 +354,20 @@ def interval_eq12():
     # rhs = level is a quadratic in a/l once the denominator is cleared: its roots by the
     # quadratic formula, the one that can be positive kept (a_over_l is a positive symbol)
     num, den = sp.fraction(sp.cancel(rhs))
-    ends = []
-    for level in (0, 1):
-        poly = sp.Poly(num - level * den, a_over_l)
-        if poly.degree() != 2:  # pragma: no cover
-            raise RuntimeError(f"eq. 11 = {level} is not quadratic in a/l")
-        A, B, C0 = (poly.coeff_monomial(a_over_l**k) for k in (2, 1, 0))
-        roots = [(-B + sign * sp.sqrt(B**2 - 4 * A * C0)) / (2 * A) for sign in (1, -1)]
-        (root,) = [r for r in roots if r.is_positive is not False]
-        ends.append(sp.simplify(root))
-    return tuple(ends)
+    return tuple(sp.simplify(quadratic_root(num - level * den, a_over_l, f"eq. 11 = {level}"))
+                 for level in (0, 1))
+
+
+def quadratic_root(expr, x, what):
+    """The root of ``expr`` = 0, a quadratic polynomial in ``x``, by the quadratic formula:
+    the one of the two that can be positive (exactly one must be)."""
+    poly = sp.Poly(expr, x)
+    if poly.degree() != 2:  # pragma: no cover - a derivation bug
+        raise RuntimeError(f"{what} is not quadratic in {x}")
+    A, B, C0 = (poly.coeff_monomial(x**k) for k in (2, 1, 0))
+    roots = [(-B + sign * sp.sqrt(B**2 - 4 * A * C0)) / (2 * A) for sign in (1, -1)]
+    (root,) = [r for r in roots if r.is_positive is not False]
+    return root
 
 
 def characteristic_a0_series(order):
