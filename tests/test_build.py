@@ -445,18 +445,27 @@ def test_a_build_derives_each_equation_once(tmp_path, monkeypatch):
         f.cache_clear()
     monkeypatch.setattr(equations, "_DERIVED", {})
     monkeypatch.setattr(pipeline, "_CANONICAL", {})
-    counts = {"derive": 0, "periodic_form": 0, "interval_eq12": 0, "series": 0}
+    counts = {"derive": 0, "periodic_form": 0, "series": 0}
+    # eq. 11 per form (Mathieu plane, physical) and depth: calls of the cached function,
+    # cache hits included, so that 1 per argument tuple proves one derivation of each
+    eq11 = {}
 
     def counting(name, real):
         def wrapper(*args, **kwargs):
             counts[name] += 1
             return real(*args, **kwargs)
         return wrapper
+
+    def counting_by_args(real):
+        def wrapper(*args):
+            eq11[args] = eq11.get(args, 0) + 1
+            return real(*args)
+        return wrapper
     monkeypatch.setattr(equations, "_derive_driven_pivot",
                         counting("derive", equations._derive_driven_pivot))
     monkeypatch.setattr(canonical, "periodic_form", counting("periodic_form", canonical.periodic_form))
     monkeypatch.setattr(phelps_hunter, "_small_parameter_exponent",
-                        counting("interval_eq12", phelps_hunter._small_parameter_exponent))
+                        counting_by_args(phelps_hunter._small_parameter_exponent))
     import pendulab.analyses.series as series
     monkeypatch.setattr(series, "stability_interval_series",
                         counting("series", series.stability_interval_series))
@@ -471,7 +480,10 @@ def test_a_build_derives_each_equation_once(tmp_path, monkeypatch):
     # jobs=1: the counters live in this process (with jobs > 1 the scenes run in forked workers)
     assert build(scenes, tmp_path / "out", log=lambda m: None, jobs=1) == {"point": "built", "rod": "built"}
     # eq28 rows: the same 5 values of omega0/omega for both bodies, computed once each
-    assert counts == {"derive": 1, "periodic_form": 1, "interval_eq12": 1, "series": 5}
+    assert counts == {"derive": 1, "periodic_form": 1, "series": 5}
+    # eq. 12 needs the physical eq. 11, which is formed from the Mathieu-plane one: each
+    # derived once (mathieu, depth) -> calls
+    assert eq11 == {(False, 1): 1, (True, 1): 1}
 
 
 def test_shared_series_limits_are_bit_for_bit_the_direct_ones():

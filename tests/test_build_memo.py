@@ -76,14 +76,24 @@ def test_the_interval_is_the_one_of_the_point_by_point_scan():
 def test_first_band_memo_gives_the_fresh_band():
     from pendulab.analyses import floquet
     from pendulab.analyses.floquet import _charvalues
-    _charvalues._BANDS.clear()
+    # double precision, proved route: a start and a ball per end (a_0 and b_1 crossings)
+    _charvalues._ENDS.clear()
     rod = floquet.stability_limits(0.35, 4 / 3)
-    assert len(_charvalues._BANDS) == 2          # the two working precisions
+    assert len(_charvalues._ENDS) == 4
     point = floquet.stability_limits(0.35, 1)  # the same theta0: taken from the memo
-    assert len(_charvalues._BANDS) == 2
-    _charvalues._BANDS.clear()
+    assert len(_charvalues._ENDS) == 4
+    _charvalues._ENDS.clear()
     assert floquet.stability_limits(0.35, 1) == point
     assert floquet.stability_limits(0.35, 4 / 3) == rod
+    # the mpmath route's memo: one band per working precision
+    _charvalues._BANDS.clear()
+    rod = floquet.stability_limits(0.35, 4 / 3, method="mpmath")
+    assert len(_charvalues._BANDS) == 2          # the two working precisions
+    point = floquet.stability_limits(0.35, 1, method="mpmath")
+    assert len(_charvalues._BANDS) == 2
+    _charvalues._BANDS.clear()
+    assert floquet.stability_limits(0.35, 1, method="mpmath") == point
+    assert floquet.stability_limits(0.35, 4 / 3, method="mpmath") == rod
 
 
 def test_shared_pdf_font_subsets_give_matplotlibs_bytes():

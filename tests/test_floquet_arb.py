@@ -26,7 +26,7 @@ from pendulab.analyses.floquet import (
     stability_limits,
 )
 from pendulab.analyses.floquet import _arb
-from pendulab.errors import InputError
+from pendulab.errors import InputError, PrecisionError
 
 # the reference table of tests/test_floquet.py: band 0 (the source's Fig. 2
 # point), its mirror, gap 1 at large q, gap 2, band 1, below a_0
@@ -206,6 +206,45 @@ def test_stability_limits_certified_at_200_digits():
         assert all(abs(a - b) < mpmath.mpf(10) ** -199 for a, b in zip(lim, ref))
     # a ratio given as a float is exact too (its binary value)
     assert stability_limits(0.1, "4/3", dps=20).certified_digits == 20
+
+
+@pytest.mark.parametrize("inertia_ratio", [1.0, 4 / 3])
+def test_double_limits_are_the_correctly_rounded_ends(inertia_ratio):
+    """stability_limits in double precision (the default, the arb route): each end is
+    the double nearest to the exact end; the reference is the independent mpmath route
+    at 40 digits, rounded to double by mpmath."""
+    for ratio in (0.0, 0.05, 0.35, 0.6, 1.0, 5.0):
+        got = stability_limits(ratio, inertia_ratio)
+        ref = stability_limits(ratio, inertia_ratio, dps=40, method="mpmath")
+        assert got.certified_digits is None and all(isinstance(x, float) for x in got)
+        assert tuple(got) == tuple(float(x) for x in ref), ratio
+
+
+def test_double_limits_fall_back_on_mpmath_when_nothing_is_proved(monkeypatch):
+    from pendulab.analyses.floquet import _charvalues
+    ref = stability_limits(0.15, 1, method="mpmath")
+    _charvalues._ENDS.clear()
+    monkeypatch.setattr(_arb, "band_end_guess", lambda family, x: None)
+    assert stability_limits(0.15, 1) == ref
+    with pytest.raises(PrecisionError):
+        stability_limits(0.15, 1, method="arb")
+    _charvalues._ENDS.clear()
+
+
+def test_nearest_double_only_where_the_ball_proves_it():
+    from flint import arb, ctx
+    saved = ctx.prec
+    try:
+        ctx.prec = 200
+        assert _arb.nearest_double(arb(1) / 3) == 1 / 3
+        assert _arb.nearest_double(-(arb(2).sqrt())) == -(2 ** 0.5)
+        assert _arb.nearest_double(arb(0)) == 0.0
+        # a ball around the midpoint of 1 and its successor 1 + 2^-52 proves neither
+        mid = arb(1) + arb(2) ** -53
+        assert _arb.nearest_double(mid + arb(0, 2.0 ** -120)) is None
+        assert _arb.nearest_double(mid + arb(2) ** -100) == 1 + 2 ** -52
+    finally:
+        ctx.prec = saved
 
 
 # -- the hand kernels against the derivation and an eigensolver --------------------------

@@ -250,3 +250,43 @@ def test_bad_input_is_one_line_input_error(call, message):
     with pytest.raises(InputError, match=message) as info:
         call()
     assert "\n" not in str(info.value)
+
+
+# -- the fast derivation against the slow one ----------------------------------------
+
+def _slow_eq11_and_eq12():
+    """000 eqs. 11-12 the slow way (SymPy series, simplify and solve), an independent route
+    to the same expressions that the module derives by polynomial arithmetic."""
+    eps = sp.Symbol("eps", positive=True)
+    delta0 = ph.hill_matrix(1, 0).det(method="berkowitz")
+    half = sp.sin(sp.pi * sp.sqrt(S.theta0) / 2) ** 2
+    scaled = (delta0 * half).subs({S.theta0: eps * S.theta0, S.theta1: sp.sqrt(eps) * S.theta1},
+                                  simultaneous=True)
+    expansion = sp.expand(sp.series(scaled, eps, 0, 2).removeO())
+    mathieu = sp.factor(sp.simplify(expansion.coeff(eps, 1)))
+    th0, th1 = ph._mathieu_parameters()
+    physical = sp.factor(sp.simplify(mathieu.subs({S.theta0: th0, S.theta1: th1},
+                                                  simultaneous=True)))
+    rhs = ph.to_dimensionless(physical)
+    (lower,) = sp.solve(sp.Eq(rhs, 0), x)
+    (upper,) = sp.solve(sp.Eq(rhs, 1), x)
+    return mathieu, physical, (sp.simplify(lower), sp.simplify(upper))
+
+
+def test_fast_derivation_gives_the_slow_routes_expressions():
+    # structural equality: the JSON of the stability product prints these expressions and
+    # lambdify turns them into the numbers, so the same tree is needed, not only equal values
+    mathieu, physical, interval = _slow_eq11_and_eq12()
+    assert ph.small_parameter_exponent(mathieu=True).rhs == mathieu
+    assert ph.small_parameter_exponent().rhs == physical
+    assert ph.interval_eq12() == interval
+
+
+def test_taylor_coefficients_against_series():
+    s = sp.Symbol("s")
+    f = (1 + 2 * s + S.theta0 * s**2) / (3 - s + S.theta1 * s**2)
+    ref = sp.expand(sp.series(f, s, 0, 4).removeO())
+    got = ph._taylor_coefficients(f, s, 3)
+    assert all(sp.simplify(got[k] - ref.coeff(s, k)) == 0 for k in range(4))
+    # and it fails for a wrong function
+    assert sp.simplify(ph._taylor_coefficients(f + s**2, s, 3)[2] - ref.coeff(s, 2)) != 0

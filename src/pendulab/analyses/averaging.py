@@ -37,7 +37,9 @@ import functools
 import sympy as sp
 
 from pendulab import symbols as S
-from pendulab.analyses.phelps_hunter import a_over_l, inertia_ratio, to_dimensionless, w0_over_w
+from pendulab.analyses.phelps_hunter import (
+    a_over_l, inertia_ratio, quadratic_root, to_dimensionless, w0_over_w,
+)
 from pendulab.errors import InputError
 from pendulab.systems import BODIES
 
@@ -70,6 +72,12 @@ def _inertia(inertia):
     return value
 
 
+def _is_zero(expr):
+    """True when ``expr`` is 0: expanded first (a sum of trigonometric monomials here
+    cancels term by term), simplified only if that leaves something."""
+    return sp.expand(expr) == 0 or sp.simplify(expr) == 0
+
+
 @functools.lru_cache(maxsize=None)
 def _lagrangian_torques():
     """(inertial, gravitational) torques on theta from the Euler-Lagrange equation.
@@ -86,7 +94,7 @@ def _lagrangian_torques():
     th = system.coordinate
     acc = th.diff(S.t, 2)
     coefficient = sp.expand(el).coeff(acc)
-    if sp.simplify(coefficient - S.I) != 0:  # pragma: no cover
+    if not _is_zero(coefficient - S.I):  # pragma: no cover
         raise RuntimeError(f"Euler-Lagrange expression has {coefficient} theta'', expected I theta''")
     torque = sp.expand(-(el - coefficient * acc)).subs(th, _theta).doit()
     gravitational = sp.expand(torque).coeff(S.g) * S.g
@@ -118,21 +126,39 @@ def fast_displacement(inertia="I"):
     equations = [residual.coeff(sp.cos(S.omega * S.t)), residual.coeff(sp.sin(S.omega * S.t))]
     solution = sp.solve(equations, [A, B], dict=True)[0]
     result = trial.subs(solution)
-    if sp.simplify(value * sp.diff(result, S.t, 2) - fast_torque) != 0:  # pragma: no cover
+    if not _is_zero(value * sp.diff(result, S.t, 2) - fast_torque):  # pragma: no cover
         raise RuntimeError("fast displacement does not solve I delta'' = fast torque")
     return result
 
 
+@functools.lru_cache(maxsize=None)
 def sin_split():
     """sin(psi + delta) to first order in delta (000 eq. 15), from its series."""
     eps = sp.Symbol("eps")
-    return sp.series(sp.sin(psi + eps * delta), eps, 0, 2).removeO().subs(eps, 1)
+    f = sp.sin(psi + eps * delta)
+    # its Taylor polynomial f(0) + f'(0) eps, the derivative formed by SymPy
+    return (f.subs(eps, 0) + sp.diff(f, eps).subs(eps, 0) * eps).subs(eps, 1)
 
 
 def period_average(expr):
     """<f> = (1/T) int_0^T f dt with T = 2 pi/omega (000, footnote 1 of sec. 2.3)."""
+    return sp.simplify(_mean(expr))
+
+
+def _mean(expr):
+    """The period mean of :func:`period_average`, not simplified.
+
+    A polynomial in cos(omega t), sin(omega t) (every torque here) is a Laurent
+    polynomial in z = e^{i omega t}; its mean over a period is the z^0 coefficient
+    (the mean of e^{i k omega t} is 0 for k != 0).  Anything else is integrated."""
+    z = sp.Symbol("z_", positive=True)
+    wt = S.omega * S.t
+    e = sp.expand(sp.expand(expr).subs({sp.cos(wt): (z + 1 / z) / 2,
+                                        sp.sin(wt): (z - 1 / z) / (2 * sp.I)}))
+    if not e.has(S.t):
+        return sp.Add(*[term for term in sp.Add.make_args(e) if not term.has(z)])
     period = 2 * sp.pi / S.omega
-    return sp.simplify(sp.integrate(sp.expand(expr), (S.t, 0, period)) / period)
+    return sp.integrate(sp.expand(expr), (S.t, 0, period)) / period
 
 
 @functools.lru_cache(maxsize=None)
@@ -151,8 +177,8 @@ def _averaged(inertia):
         "delta": d,
         "inertial_instantaneous": sp.expand(tau_i),
         "gravitational_instantaneous": sp.expand(tau_g),
-        "inertial": sp.factor(sp.trigsimp(period_average(tau_i))),
-        "gravitational": sp.factor(period_average(tau_g)),
+        "inertial": sp.factor(sp.trigsimp(_mean(tau_i))),
+        "gravitational": sp.factor(sp.trigsimp(_mean(tau_g))),
     }
 
 
@@ -211,6 +237,7 @@ def _ratio_at_small_psi(inertia):
     return sp.simplify(sp.limit(-torques["inertial"] / torques["gravitational"], psi, 0))
 
 
+@functools.lru_cache(maxsize=None)
 def _g_from_omega0():
     """g from the source's definition omega0^2 = m g l/I (000, after eq. 3)."""
     (g,) = sp.solve(sp.Eq(S.omega0**2, S.m * S.g * S.l / S.I), S.g)
@@ -219,8 +246,10 @@ def _g_from_omega0():
 
 def _lower_bound(inertia):
     ratio = _ratio_at_small_psi(inertia).subs(S.g, _g_from_omega0())
-    solutions = [s for s in sp.solve(sp.Eq(ratio, 1), S.a) if s.is_positive is not False]
-    (a_min,) = solutions
+    # ratio = 1: a quadratic in a once the denominator is cleared (the ratio is a^2 times
+    # a factor free of a), its positive root by the quadratic formula
+    num, _ = sp.fraction(sp.cancel(ratio - 1))
+    a_min = quadratic_root(num, S.a, "eq. 18 at small psi")
     return to_dimensionless(a_min / S.l)
 
 

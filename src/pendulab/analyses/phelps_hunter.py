@@ -76,9 +76,23 @@ def ansatz(depth):
 
 
 def _frequency_part(expr, shift):
-    """Coefficient of e^{i shift tau} in ``expr`` (a sum of exponentials in tau)."""
-    e = sp.expand(sp.powsimp(sp.expand(expr * sp.exp(-sp.I * shift * S.tau)), combine="exp"))
-    return sp.Add(*[term for term in sp.Add.make_args(e) if not term.has(S.tau)])
+    """Coefficient of e^{i shift tau} in ``expr`` (a sum of exponentials in tau).
+
+    Each term of the expanded sum (exponentials kept whole: no power_exp split) is
+    a coefficient times exponentials; its frequency is the sum of their exponents
+    over i tau, compared with ``shift``."""
+    e = sp.expand(expr, power_exp=False, multinomial=False)
+    part = []
+    for term in sp.Add.make_args(e):
+        factors = sp.Mul.make_args(term)
+        exponent = sp.Add(*[f.args[0] for f in factors if isinstance(f, sp.exp)])
+        coefficient = sp.Mul(*[f for f in factors if not isinstance(f, sp.exp)])
+        frequency = sp.expand(exponent / (sp.I * S.tau))
+        if coefficient.has(S.tau) or frequency.has(S.tau):  # pragma: no cover
+            raise RuntimeError(f"{term} is not a multiple of an exponential in tau")
+        if sp.expand(frequency - shift) == 0:
+            part.append(coefficient)
+    return sp.expand(sp.Add(*part))
 
 
 def C(k):
@@ -276,24 +290,51 @@ def small_parameter_exponent(mathieu=False, depth=1):
     return _small_parameter_exponent(bool(mathieu), depth)
 
 
+def _taylor_coefficients(expr, s, order):
+    """Coefficients of s^0 .. s^order of a rational function of s regular at s = 0.
+
+    Polynomial arithmetic on numerator N and denominator D (cancelled first):
+    c_k = (N_k - sum_{j<k} c_j D_{k-j}) / D_0, the long division of power series.
+    """
+    num, den = sp.fraction(sp.cancel(expr))
+    num, den = sp.Poly(num, s), sp.Poly(den, s)
+    n_k = [num.coeff_monomial(s**k) for k in range(order + 1)]
+    d_k = [den.coeff_monomial(s**k) for k in range(order + 1)]
+    if d_k[0] == 0:  # pragma: no cover - a derivation bug
+        raise RuntimeError("the scaled Delta(0) has a pole at eps = 0")
+    out = []
+    for k in range(order + 1):
+        out.append(sp.cancel((n_k[k] - sum(out[j] * d_k[k - j] for j in range(k))) / d_k[0]))
+    return out
+
+
 @functools.lru_cache(maxsize=None)
 def _small_parameter_exponent(mathieu, depth):
-    eps = sp.Symbol("eps", positive=True)
+    if not mathieu:
+        # the physical form: the Mathieu-plane result with theta0, theta1 of 000 eqs. 5-6
+        rhs = _small_parameter_exponent(True, depth).rhs
+        th0, th1 = _mathieu_parameters()
+        physical = rhs.subs({S.theta0: th0, S.theta1: th1}, simultaneous=True)
+        return sp.Eq(sp.sin(sp.pi * lam / 2) ** 2, sp.factor(sp.cancel(physical)), evaluate=False)
+    # eps = s^2: theta0 -> s^2 theta0, theta1 -> s theta1; Delta(0) is then rational in s
+    # and regular at s = 0, sin^2(pi s sqrt(theta0)/2) a power series in s; the O(eps)
+    # term is the s^2 coefficient of their product (series by polynomial arithmetic).
+    s = sp.Symbol("s", positive=True)
+    x = sp.Symbol("x")
     delta0 = hill_matrix(depth, 0).det(method="berkowitz")
-    half_angle = sp.sin(sp.pi * sp.sqrt(S.theta0) / 2) ** 2
-    scaled = (delta0 * half_angle).subs({S.theta0: eps * S.theta0,
-                                         S.theta1: sp.sqrt(eps) * S.theta1},
-                                        simultaneous=True)
-    expansion = sp.expand(sp.series(scaled, eps, 0, 2).removeO())
-    if sp.simplify(expansion.coeff(eps, 0)) != 0:  # pragma: no cover
-        raise RuntimeError("Delta(0) sin^2 has an O(1) term")
-    rhs = sp.factor(sp.simplify(expansion.coeff(eps, 1)))
-    lhs = sp.sin(sp.pi * lam / 2) ** 2
-    if mathieu:
-        return sp.Eq(lhs, rhs)
-    th0, th1 = _mathieu_parameters()
-    physical = rhs.subs({S.theta0: th0, S.theta1: th1}, simultaneous=True)
-    return sp.Eq(lhs, sp.factor(sp.simplify(physical)))
+    scaled = delta0.subs({S.theta0: s**2 * S.theta0, S.theta1: s * S.theta1},
+                         simultaneous=True)
+    c = _taylor_coefficients(scaled, s, 2)
+    # Taylor coefficients f^(k)(0)/k! of sin^2(pi x/2), x = s sqrt(theta0)
+    half, derivative = sp.sin(sp.pi * x / 2) ** 2, []
+    for k in range(3):
+        derivative.append(half.subs(x, 0) / sp.factorial(k))
+        half = sp.diff(half, x)
+    h = [derivative[k] * sp.sqrt(S.theta0) ** k for k in range(3)]
+    product = [sp.expand(sum(c[j] * h[k - j] for j in range(k + 1))) for k in range(3)]
+    if product[0] != 0 or product[1] != 0:  # pragma: no cover
+        raise RuntimeError("Delta(0) sin^2 has an O(1) or O(sqrt(eps)) term")
+    return sp.Eq(sp.sin(sp.pi * lam / 2) ** 2, sp.factor(product[2]), evaluate=False)
 
 
 @functools.lru_cache(maxsize=None)
@@ -308,11 +349,25 @@ def interval_eq12():
     rhs = to_dimensionless(small_parameter_exponent().rhs)
     if rhs.free_symbols - {a_over_l, w0_over_w, inertia_ratio}:  # pragma: no cover
         raise RuntimeError(f"eq. 11 is not dimensionless: {rhs}")
-    if not sp.simplify(sp.diff(rhs, a_over_l)).is_positive:  # pragma: no cover
+    if not sp.factor(sp.diff(rhs, a_over_l)).is_positive:  # pragma: no cover
         raise RuntimeError("sin^2(pi lam/2) of eq. 11 does not increase with a/l")
-    (lower,) = sp.solve(sp.Eq(rhs, 0), a_over_l)
-    (upper,) = sp.solve(sp.Eq(rhs, 1), a_over_l)
-    return sp.simplify(lower), sp.simplify(upper)
+    # rhs = level is a quadratic in a/l once the denominator is cleared: its roots by the
+    # quadratic formula, the one that can be positive kept (a_over_l is a positive symbol)
+    num, den = sp.fraction(sp.cancel(rhs))
+    return tuple(sp.simplify(quadratic_root(num - level * den, a_over_l, f"eq. 11 = {level}"))
+                 for level in (0, 1))
+
+
+def quadratic_root(expr, x, what):
+    """The root of ``expr`` = 0, a quadratic polynomial in ``x``, by the quadratic formula:
+    the one of the two that can be positive (exactly one must be)."""
+    poly = sp.Poly(expr, x)
+    if poly.degree() != 2:  # pragma: no cover - a derivation bug
+        raise RuntimeError(f"{what} is not quadratic in {x}")
+    A, B, C0 = (poly.coeff_monomial(x**k) for k in (2, 1, 0))
+    roots = [(-B + sign * sp.sqrt(B**2 - 4 * A * C0)) / (2 * A) for sign in (1, -1)]
+    (root,) = [r for r in roots if r.is_positive is not False]
+    return root
 
 
 def characteristic_a0_series(order):

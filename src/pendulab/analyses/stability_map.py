@@ -64,17 +64,23 @@ def map_limits(pmap, point, dps=None, what="the limits", method=None):
     other groups ({"w0_over_w": ..., "inertia_ratio": ...}; exact values such
     as Fraction or decimal text are rounded afresh at each working precision).
 
-    method None (default): "arb" when dps is given and theta0 and the scale
-    (a/l)/theta1 of the map are rational at the point (the source's drive with
-    rational ratio and I/(m l^2)): both are evaluated exactly from the
-    derivation (SymPy, exact rationals) and the band by the ball-arithmetic
-    route of :func:`first_band`, every digit proved; otherwise "mpmath":
+    method None (default): "arb" when theta0 and the scale (a/l)/theta1 of the
+    map are rational at the point (the source's drive with rational ratio and
+    I/(m l^2); a float is its exact binary value): both are evaluated exactly
+    from the derivation (SymPy, exact rationals) and the band by the
+    ball-arithmetic route of :func:`first_band`, every digit proved; in double
+    precision (dps None) each end is then the double nearest to every number of
+    a ball proved to contain the exact end, i.e. its correctly rounded value.
+    Otherwise, or where the balls cannot be made narrow enough, "mpmath":
     theta0 and the scale with the map's mpmath function at the working
     precision, the band by the mpmath route.  Returns a Limits pair whose
-    ``certified_digits`` says how many digits are proved (None: mpmath).
+    ``certified_digits`` says how many digits are proved (None: mpmath, and
+    double precision).
     """
     dps = _check_dps(dps)
     asked, method = method, _value_method(method, dps, "map_limits")
+    if asked is None:
+        method = "arb"
     exact = {k: (v if isinstance(v, (Fraction, mpmath.mpf)) else _exact(v, k))
              for k, v in point.items()}
     if method == "arb":
@@ -114,8 +120,12 @@ def _exact_groups(pmap, exact):
         return None
     sub = {names[k]: rat(v) for k, v in exact.items()}
     out = []
-    for expr in (pmap.theta0, pmap.scale):
-        val = sp.nsimplify(expr).subs(sub) if expr.free_symbols - set(sub) == set() else None
+    for which in ("theta0", "scale"):
+        key = (which, "nsimplify")   # the map's cache of its forms, once per map
+        if key not in pmap._fns:
+            pmap._fns[key] = sp.nsimplify(getattr(pmap, which))
+        expr = pmap._fns[key]
+        val = expr.xreplace(sub) if expr.free_symbols - set(sub) == set() else None
         if val is None or not val.is_Rational:
             return None
         out.append(Fraction(int(val.p), int(val.q)))

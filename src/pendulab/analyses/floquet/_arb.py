@@ -745,9 +745,10 @@ def char_value_at(family, j, Q, want, w):
     return None
 
 
-def band_end_at(family, X0, want, w, q_start, scale=None):
-    """Certified ball of the q > 0 where the lowest eigenvalue of ``family`` ("a_even":
-    a_0, "b_odd": b_1) equals theta0 = X0 (exact, < 1): (text, ball) or None.
+def band_end_ball(family, X0, w, q_start):
+    """Ball [q_lo, q_hi] proved to contain the q > 0 where the lowest eigenvalue of
+    ``family`` ("a_even": a_0, "b_odd": b_1) equals theta0 = X0 (exact, < 1), Newton
+    from ``q_start`` at working precision w digits: (ball, bits) or None.
 
     Both curves decrease strictly in q > 0 (DLMF 28.2(v), 28.7), so the family's
     count of eigenvalues below theta0 is 0 before the crossing and 1 after it;
@@ -774,9 +775,107 @@ def band_end_at(family, X0, want, w, q_start, scale=None):
             if not lo > 0:
                 return None
             if family_count(family, lo, x) == 0 and family_count(family, hi, x) == 1:
-                ball = lo.union(hi)
-                if scale is not None:   # a/l = q * (exact scale), the limits of a ParameterMap
-                    ball = ball * to_ball(scale)
-                text = lam_text(ball, want)
-                return (text, ball) if text is not None else None
+                return lo.union(hi), prec + 16
     return None
+
+
+def band_end_at(family, X0, want, w, q_start, scale=None):
+    """Certified ball of the q > 0 where the lowest eigenvalue of ``family`` ("a_even":
+    a_0, "b_odd": b_1) equals theta0 = X0 (exact, < 1), times the exact ``scale`` when
+    given, to ``want`` digits: (text, ball) or None (:func:`band_end_ball`)."""
+    got = band_end_ball(family, X0, w, q_start)
+    if got is None:
+        return None
+    ball, bits = got
+    if scale is not None:   # a/l = q * (exact scale), the limits of a ParameterMap
+        with _Prec(bits):
+            ball = ball * to_ball(scale)
+    text = lam_text(ball, want)
+    return (text, ball) if text is not None else None
+
+
+def nearest_double(ball):
+    """The double nearest (round-half-even) to every number in ``ball``, or None when
+    the ends of the ball round to different doubles (then no double is proved).
+
+    The ends mid -+ rad are formed exactly (integers times a power of 2) and rounded
+    by Python's int / int division, which is correctly rounded."""
+    (m1, e1), (m2, e2) = (tuple(int(v) for v in x.man_exp()) for x in (ball.mid(), ball.rad()))
+    if m2 == 0:
+        e2 = e1
+    e = min(e1, e2)
+    mid, rad = m1 << (e1 - e), m2 << (e2 - e)
+    ends = []
+    for n in (mid - rad, mid + rad):
+        try:
+            ends.append(float(Fraction(n * 2 ** e) if e >= 0 else Fraction(n, 2 ** -e)))
+        except OverflowError:
+            return None
+    return ends[0] if ends[0] == ends[1] else None
+
+
+def _float_count(family, q, x, n):
+    """Eigenvalues < x of the n x n truncation of ``family`` at q, in floats (a guess)."""
+    count = 0
+    p = 0.0
+    for i in range(n):
+        d = _diag(family, i, q)
+        if i == 0:
+            p = d - x
+        else:
+            e2 = 2 * q * q if (family == "a_even" and i == 1) else q * q
+            p = d - x - e2 / (p if p != 0 else 1e-300)
+        if p < 0:
+            count += 1
+    return count
+
+
+def band_end_guess(family, x):
+    """A double estimate of the q > 0 where the lowest eigenvalue of ``family`` equals
+    x (a float < 1), or None: a bracket [q/2, q] by float Sturm counts of the truncated
+    matrix (0 below the crossing, >= 1 above), then Newton on its determinant
+    (:func:`_pivots_logdiff`), a bisection step whenever Newton leaves the bracket.
+    Nothing here is proved: :func:`band_end_ball` proves the end from this start."""
+    from pendulab.analyses.floquet._charvalues import _family_size
+
+    sizes = {}
+
+    def size(q):
+        # the rows for 18 digits at the next power of 2 above q (more rows than q needs)
+        top = math.frexp(q)[1]
+        if top not in sizes:
+            sizes[top] = _family_size(0, math.ldexp(1.0, top), 18) + 2
+        return sizes[top]
+
+    def count(q):
+        return _float_count(family, q, x, size(q))
+    hi = 1.0
+    if count(hi) == 0:
+        while count(hi) == 0:
+            hi *= 2
+            if hi > 1e9:
+                return None
+    else:
+        while count(hi / 2) >= 1:
+            hi /= 2
+            if hi < 1e-150:
+                return None
+    lo, q = hi / 2, 0.75 * hi
+    for _ in range(200):
+        try:
+            s = _pivots_logdiff(family, q, x, size(q), dq=True)
+            new = q - 1 / s
+        except (ZeroDivisionError, OverflowError):   # a pivot exactly 0: bisect
+            new = math.nan
+        if not lo < new < hi:
+            new = 0.5 * (lo + hi)
+        elif abs(new - q) <= 4e-16 * new:
+            return new
+        if count(new) == 0:
+            lo = new
+        else:
+            hi = new
+        if hi - lo <= 4e-16 * hi:
+            return new
+        q = new
+    return q

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import mpmath
 
 from pendulab.errors import ConvergenceError, InputError, PrecisionError
@@ -231,13 +233,22 @@ def first_band(theta0, dps=None, method=None):
 
 
 def _band_certified(X0, dps, what, scale=None):
-    """The arb route of the first band at exact theta0 = X0 (times the exact ``scale``)."""
-    from fractions import Fraction
-
+    """The arb route of the first band at exact theta0 = X0 (times the exact ``scale``):
+    ``dps`` proved digits, or in double precision (dps None) the proved correctly
+    rounded doubles (:func:`_band_double`)."""
     from pendulab.analyses.floquet._arb import band_end_at
-    want = DOUBLE_DPS if dps is None else dps
-    with mpmath.workdps(20):
-        starts = _first_band_mp(_mp(X0), 20)
+    if dps is None:
+        band = _band_double(X0, scale)
+        if band is None:
+            raise PrecisionError(f"{what}: the ends of the first band were not proved to "
+                                 "double precision")
+        return band
+    want = dps
+    starts = [0.0 if family == "a_even" and X0 >= 0 else _end_start(family, X0)
+              for family in ("a_even", "b_odd")]
+    if None in starts:   # no double start (theta0 beyond the range of doubles)
+        with mpmath.workdps(20):
+            starts = _first_band_mp(_mp(X0), 20)
     ends = []
     for family, start in zip(("a_even", "b_odd"), starts):
         if family == "a_even" and X0 >= 0:
@@ -249,10 +260,69 @@ def _band_certified(X0, dps, what, scale=None):
         else:
             ends.append(_certified(lambda w: band_end_at(family, X0, want, w, start,
                                                          Fraction(scale)), want, what))
-    if dps is None:   # double precision: floats, the proof at 16 digits is not claimed
-        return Limits((float(ends[0]), float(ends[1])))
     with mpmath.workdps(want):
         return Limits((+ends[0], +ends[1]), want)
+
+
+#: (family, theta0) -> double start, (family, theta0, w) -> proved ball of the band end
+#: in q (with its bits) or None, kept for the process: the rod and the point mass of a
+#: build meet the same theta0 = -4 (omega0/omega)^2 (issue 10 item 6).
+_ENDS = {}
+
+
+def _end_start(family, X0):
+    """:func:`_arb.band_end_guess` at exact theta0 = X0 (memoised): a double or None."""
+    from pendulab.analyses.floquet._arb import band_end_guess
+
+    if len(_ENDS) >= 4096:
+        _ENDS.clear()
+    if (family, X0) not in _ENDS:
+        _ENDS[family, X0] = band_end_guess(family, float(X0))
+    return _ENDS[family, X0]
+
+
+def _end_ball(family, X0, w):
+    """:func:`_arb.band_end_ball` from :func:`_end_start` (memoised)."""
+    from pendulab.analyses.floquet._arb import band_end_ball
+
+    start = _end_start(family, X0)
+    if start is None:
+        return None
+    if (family, X0, w) not in _ENDS:
+        _ENDS[family, X0, w] = band_end_ball(family, X0, w, start)
+    return _ENDS[family, X0, w]
+
+
+def _band_double(X0, scale=None):
+    """The first band at exact theta0 = X0 (times the exact ``scale``) in double
+    precision by the arb route: each end is the double nearest to every number of a
+    ball proved to contain it (Sturm counts of the infinite matrices), so it is the
+    correctly rounded value of the exact end.  The working precision grows by the one
+    rule of :mod:`._precision` while the ball's ends round to different doubles; None
+    when no double is proved (the caller falls back on the mpmath route or raises)."""
+    from pendulab.analyses.floquet._arb import _Prec, nearest_double, to_ball
+    from pendulab.analyses.floquet._precision import default_max_dps, precisions
+
+    ends = []
+    for family in ("a_even", "b_odd"):
+        if family == "a_even" and X0 >= 0:
+            ends.append(0.0)
+            continue
+        for w in precisions(DOUBLE_DPS, default_max_dps(DOUBLE_DPS), reach=0):
+            got = _end_ball(family, X0, w)
+            if got is None:
+                continue
+            ball, bits = got
+            if scale is not None:
+                with _Prec(bits):
+                    ball = ball * to_ball(Fraction(scale))
+            value = nearest_double(ball)
+            if value is not None:
+                ends.append(value)
+                break
+        else:
+            return None
+    return Limits((ends[0], ends[1]))
 
 
 def _band_at_two_precisions(band, dps, what):

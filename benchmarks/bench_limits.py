@@ -1,0 +1,62 @@
+"""CPU of the stability product's closed forms and exact limits: this tree against a baseline commit.
+
+    python benchmarks/bench_limits.py [--baseline 4b84647]
+
+Each side runs in a fresh process (the derivations are cached per process):
+the closed forms of methods eq12, eq19, eq19-corrected
+(pendulab.analyses.stability._formula, what the stability product lambdifies)
+and the exact limits of the build's calls (kapitza-point: 11 ratios on [0, 1/2],
+point mass; kapitza-rod: 21 on [0, 1], rod).  The baseline's src is exported
+with git archive into a temporary directory.  CPU time (time.process_time).
+"""
+
+import argparse
+import os
+import subprocess
+import sys
+import tarfile
+import tempfile
+
+CHILD = r"""
+import sys, time
+sys.path.insert(0, sys.argv[1])
+from pendulab.analyses import stability
+stability.body_map()          # shared with the rest of the build, not counted
+c = time.process_time()
+for name in ("eq12-lower", "eq12-upper", "eq19", "eq19-corrected"):
+    stability._formula(name)
+formulas = time.process_time() - c
+c = time.process_time()
+for n, top, r in ((11, 0.5, 1.0), (21, 1.0, 4 / 3)):
+    for k in range(n):
+        stability.limits(top * k / (n - 1), r, "exact")
+exact = time.process_time() - c
+print(formulas, exact)
+"""
+
+
+def run(src):
+    out = subprocess.run([sys.executable, "-c", CHILD, src], capture_output=True, text=True,
+                         check=True).stdout.split()
+    return float(out[0]), float(out[1])
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--baseline", default="4b84647")
+    args = ap.parse_args()
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with tempfile.TemporaryDirectory() as tmp:
+        tar = os.path.join(tmp, "base.tar")
+        subprocess.run(["git", "-C", root, "archive", "-o", tar, args.baseline, "src"], check=True)
+        with tarfile.open(tar) as t:
+            t.extractall(tmp)
+        base = run(os.path.join(tmp, "src"))
+    ours = run(os.path.join(root, "src"))
+    for i, what in enumerate(("closed forms (_formula)", "exact limits (32 calls)")):
+        print(f"{what:26s} ours {ours[i]:.3f} s  baseline {base[i]:.3f} s  "
+              f"ratio {base[i] / ours[i]:.2f}x")
+
+
+if __name__ == "__main__":
+    main()
