@@ -138,11 +138,11 @@ def _brent(g, a, b):
     return brentq(g, a, b, xtol=4 * eps, rtol=4 * eps)
 
 
-def solve(fun, t_eval, y0, rtol, atol, *, max_evaluations=None, events=()):
-    """Integrate y' = fun(t, a, b) -> (a', b') from t_eval[0] with y0 = (a, b); states at t_eval.
+def solve(fun, t_eval, y0, rtol, atol, *, t_span=None, max_evaluations=None, events=()):
+    """Integrate y' = fun(t, a, b) -> (a', b') over ``t_span`` with y0 = (a, b); states at t_eval.
 
-    ``t_eval`` strictly monotonic (a list of floats, at least two); ``atol`` a float or a
-    pair.  ``events``: functions g(t, a, b) with attributes ``terminal`` and ``direction``
+    ``t_eval`` strictly monotonic (a list of floats) inside ``t_span`` (default
+    (t_eval[0], t_eval[-1])); ``atol`` a float or a pair.  ``events``: functions g(t, a, b) with attributes ``terminal`` and ``direction``
     as in solve_ivp.  Returns (times, states_a, states_b, events, nfev, stopped) with
     ``events`` a list of (times, states) per event function; ``stopped`` True when a
     terminal event ended the run (the outputs then stop at its time).  Raises
@@ -150,7 +150,7 @@ def solve(fun, t_eval, y0, rtol, atol, *, max_evaluations=None, events=()):
     when a state or a derivative is not finite.
     """
     step, extra = _compiled()
-    t0, t_end = float(t_eval[0]), float(t_eval[-1])
+    t0, t_end = (float(t_eval[0]), float(t_eval[-1])) if t_span is None else map(float, t_span)
     direction = 1.0 if t_end > t0 else -1.0
     ata, atb = (atol, atol) if not hasattr(atol, "__len__") else (float(atol[0]), float(atol[1]))
     count = [0]
@@ -184,9 +184,15 @@ def solve(fun, t_eval, y0, rtol, atol, *, max_evaluations=None, events=()):
         h1 = (0.01 / max(d1, d2)) ** (1 / (ORDER + 1))
     h_abs = min(100 * h0, h1, interval)
 
-    out_t, out_a, out_b = [t0], [ya], [yb]
+    out_t, out_a, out_b = [], [], []
     n_out = len(t_eval)
-    j = 1
+    j = 0
+    while j < n_out and direction * (t_eval[j] - t0) <= 0:  # solve_ivp: t0 itself, not before
+        if t_eval[j] == t0:
+            out_t.append(t0)
+            out_a.append(ya)
+            out_b.append(yb)
+        j += 1
     g_old = [g(t0, ya, yb) for g in events]
     found = [([], []) for _ in events]
     t = t0
