@@ -149,6 +149,13 @@ def solve(fun, t_eval, y0, rtol, atol, *, t_span=None, max_evaluations=None, eve
     :class:`TooManyEvaluations` past ``max_evaluations`` calls and :class:`NotFinite`
     when a state or a derivative is not finite.
     """
+    try:
+        return _solve(fun, t_eval, y0, rtol, atol, t_span, max_evaluations, events)
+    except OverflowError:  # float ** overflows raise instead of giving inf
+        raise NotFinite from None
+
+
+def _solve(fun, t_eval, y0, rtol, atol, t_span, max_evaluations, events):
     step, extra = _compiled()
     t0, t_end = (float(t_eval[0]), float(t_eval[-1])) if t_span is None else map(float, t_span)
     direction = 1.0 if t_end > t0 else -1.0
