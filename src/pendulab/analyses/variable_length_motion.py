@@ -198,7 +198,7 @@ def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False
     found in advance.  Never returns NaN (a non-finite state raises
     :class:`~pendulab.errors.ConvergenceError`).
     """
-    from scipy.integrate import solve_ivp
+    from pendulab.numerics import dop853
 
     t_end = _finite("t_end", t_end)
     if t_end <= 0:
@@ -221,43 +221,52 @@ def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False
             t_zero)
     f = _rhs(fos, linear)
 
-    def rhs(t, y):
-        return f(t, (y[0], y[1]), p)
+    def rhs(t, a, b):
+        return f(t, (a, b), p)
 
     floor = LENGTH_FLOOR * l0
 
-    def short(t, y):
+    def short(t, a, b):
         return lfun(t) - floor
     short.terminal = True
     short.direction = -1
 
-    def turning(t, y):
-        return y[1]
+    def turning(t, a, b):
+        return b
+    turning.direction = 0
 
-    def crossing(t, y):
-        return y[0]
+    def crossing(t, a, b):
+        return a
+    crossing.direction = 0
 
     if atol is None:
         atol = rtol * 1e-3 * max(abs(theta_0), abs(dtheta_0), 1e-300)
     if t_eval is None:
         t_eval = np.linspace(0.0, t_end, int(points))
-    sol = solve_ivp(rhs, (0.0, t_end), [theta_0, dtheta_0], method="DOP853", rtol=rtol, atol=atol,
-                    t_eval=t_eval, events=(short, turning, crossing))
-    if sol.t_events[0].size:
-        te = float(sol.t_events[0][0])
+    t_eval = np.asarray(t_eval, dtype=float)
+    try:
+        tt_, ya, yb, found, nfev, stopped = dop853.solve(
+            rhs, t_eval.tolist(), (theta_0, dtheta_0), rtol, atol, t_span=(0.0, t_end),
+            events=(short, turning, crossing))
+    except (dop853.NotFinite, ZeroDivisionError):
+        raise ConvergenceError(f"DOP853 did not reach t_end = {t_end:.12g}: a state or its "
+                               "derivative is no longer finite") from None
+    if found[0][0]:
+        te = float(found[0][0][0])
         raise LengthReachesZeroError(
             f"L(t) = {length} falls to {LENGTH_FLOOR:g} L(0) at t = {te:.12g} (values {used}): the "
             f"string has no length left before t_end = {t_end:.12g}; integrate to t_end < {te:.12g}", te)
-    if sol.status != 0 or not np.all(np.isfinite(sol.y)):
-        raise ConvergenceError(f"DOP853 did not reach t_end = {t_end:.12g}: {sol.message}")
-    tt = sol.t_events[1]
-    th = sol.y_events[1][:, 0] if tt.size else np.empty(0)
+    y = np.array([ya, yb], dtype=float).reshape(2, -1)
+    if not np.all(np.isfinite(y)):
+        raise ConvergenceError(f"DOP853 did not reach t_end = {t_end:.12g}: a state is no longer finite")
+    tt = np.array(found[1][0], dtype=float)
+    th = np.array([s[0] for s in found[1][1]], dtype=float)
     # the start (dtheta(0) = 0, or theta(0) = 0) is not an event of the motion
     start = 1e-12 * t_end
     keep = tt > start
-    tc = sol.t_events[2]
-    return Trajectory(sol.t, sol.y[0], sol.y[1], dict(values), bool(linear),
-                      (tt[keep], th[keep]), np.asarray(tc[tc > start]), int(sol.nfev))
+    tc = np.array(found[2][0], dtype=float)
+    return Trajectory(np.array(tt_, dtype=float), y[0], y[1], dict(values), bool(linear),
+                      (tt[keep], th[keep]), np.asarray(tc[tc > start]), int(nfev))
 
 
 # ---------------------------------------------------------------------------

@@ -6,8 +6,9 @@
   compiled C kernel (:mod:`pendulab.numerics.ckernel`) or the generated NumPy
   module (:func:`pendulab.numerics.codegen.numpy_module`), same call.
 * :func:`rk4_trajectory` - one RK4 trajectory, every state.
-* :func:`reference_trajectory` - SciPy's DOP853 at rtol 1e-13: the reference
-  that measures RK4's error (:func:`rk4_error`).
+* :func:`reference_trajectory` - DOP853 at rtol 1e-13 (SciPy's method and tables,
+  stepped on scalar floats by :mod:`pendulab.numerics.dop853`): the reference that
+  measures RK4's error (:func:`rk4_error`).
 
 One RK4 step from time t_i = t0 + i dt (the times are computed from i, not
 accumulated) with f = ``fos.rhs`` (or ``fos.linear_rhs`` with
@@ -166,6 +167,11 @@ def default_threads():
 
 # -- the NumPy path -------------------------------------------------------------------------
 
+def _numpy_rhs(fos, linear):
+    from pendulab.numerics.codegen import numpy_functions
+    return numpy_functions(fos)["linear_rhs" if linear else "rhs"]
+
+
 def _max_abs(a, b):
     x = np.abs(a)
     return np.where((x > b) | (x != x), x, b)
@@ -311,21 +317,20 @@ def rk4_trajectory(fos, y0, params, t0, dt, steps, *, linear=False, backend="aut
     return times, states
 
 
-class _TooManyEvaluations(Exception):
-    pass
-
-
 def reference_trajectory(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, atol=1e-15,
                          max_evaluations=None):
-    """SciPy's DOP853 on the generated scalar right-hand side
-    (:func:`pendulab.numerics.codegen.scalar_function`): states (len(t_eval), 2) at ``t_eval``.
+    """DOP853 on the generated right-hand side: states (len(t_eval), 2) at ``t_eval``.
 
     Starts from ``y0`` (2,) at t_eval[0]; ``t_eval`` must be monotonic.  The reference that
     measures RK4's error (:func:`rk4_error`); raises InputError if the solver fails, if a
     state stops being finite, or after ``max_evaluations`` evaluations of the right-hand side
-    (None: no bound; DOP853 takes 12 per step).
+    (None: no bound; DOP853 takes 12 per step, 3 more for the dense output of a step with
+    output times).  The method is SciPy's DOP853 (same tables, same step-size control) run
+    on scalar floats by :mod:`pendulab.numerics.dop853`, with the code generation stage's
+    scalar right-hand side (:func:`pendulab.numerics.codegen.scalar_function`).
     """
-    from scipy.integrate import solve_ivp
+    from pendulab.numerics import dop853
+    from pendulab.numerics.codegen import scalar_function
     y0, p = _check_point(fos, y0, params)
     t_eval = _array(t_eval, "t_eval")
     if t_eval.ndim != 1 or t_eval.size < 2:
@@ -335,36 +340,39 @@ def reference_trajectory(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, a
         raise InputError("t_eval must be strictly monotonic")
     rtol = _finite_number(rtol, "rtol")
     atol = _finite_number(atol, "atol")
-    # the generated scalar right-hand side (math functions on floats): SciPy calls it once per
-    # stage, and NumPy's per-call cost on 2-vectors was most of the reference's time
-    from pendulab.numerics.codegen import scalar_function
     f = scalar_function(fos, linear)
-    pt = tuple(float(v) for v in p)
+    pl = tuple(float(x) for x in p)
 
-    count = [0]
-
-    def fun(t, y):
-        count[0] += 1
-        if max_evaluations is not None and count[0] > max_evaluations:
-            raise _TooManyEvaluations
-        return f(t, (y[0], y[1]), pt)
+    def fun(t, a, b):
+        return f(t, (a, b), pl)
     try:
-        with np.errstate(all="ignore"):
-            sol = solve_ivp(fun, (t_eval[0], t_eval[-1]), y0, method="DOP853", t_eval=t_eval,
-                            rtol=rtol, atol=atol)
-    except (OverflowError, ZeroDivisionError, ValueError):
-        # math's functions raise where NumPy's give inf or nan
-        raise InputError("reference integration (DOP853) overflowed (a state is no longer "
-                         "finite)") from None
-    except _TooManyEvaluations:
+        _, ya, yb, *_ = dop853.solve(fun, t_eval.tolist(), y0, rtol, atol,
+                                     max_evaluations=max_evaluations)
+    except dop853.TooManyEvaluations:
         raise InputError(f"the reference (DOP853 at rtol {rtol:g}) passed {max_evaluations} "
                          "evaluations of the right-hand side before reaching the end (a fast "
                          "oscillation or rotation); ask for fewer periods or smaller values") from None
-    if not sol.success:
-        raise InputError(f"reference integration (DOP853) failed: {sol.message}")
-    if not np.all(np.isfinite(sol.y)):
+    except dop853.NotFinite:
+        raise InputError("reference integration (DOP853) overflowed (a state is no longer finite)") from None
+    out = np.column_stack([np.array(ya, float), np.array(yb, float)])
+    if not np.all(np.isfinite(out)):
         raise InputError("reference integration (DOP853) overflowed (a state is no longer finite)")
-    return sol.y.T.copy()
+    return out
+
+
+def _reference_solve_ivp(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, atol=1e-15):
+    """The former reference: SciPy's solve_ivp(method="DOP853") on the generated NumPy module.
+
+    Kept to compare with (tests, benchmarks/bench_reference.py); no input checks.
+    """
+    from scipy.integrate import solve_ivp
+    f = _numpy_rhs(fos, linear)
+    pc = np.asarray(params, float).reshape(-1, 1)
+    t_eval = np.asarray(t_eval, float)
+    with np.errstate(all="ignore"):
+        sol = solve_ivp(lambda t, y: f(t, y, pc), (t_eval[0], t_eval[-1]), np.asarray(y0, float),
+                        method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol, vectorized=True)
+    return sol.y.T.copy(), sol.nfev
 
 
 def rk4_error(fos, y0, params, t0, dt, steps, linear=False, backend="auto"):
