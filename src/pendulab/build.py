@@ -237,10 +237,10 @@ def job_count(jobs=None):
 #: Relative cost of a product, or of one part of a product made in parts ("product:part"),
 #: in the committed scenes (CPU of the main job), used only to start the dearest first so
 #: that the processes finish together; any order gives the same files.  Not listed: 1.
-WEIGHTS = {"experiments:map:text": 6, "experiments:map:caption": 5, "experiments:map:fig4": 4,
-           "experiments:fig5": 6, "experiments:fig2": 4, "experiments:first": 10,
-           "experiments:summary": 2, "motion": 10, "stability": 6, "bessel": 4, "series": 1,
-           "floquet": 1, "kernels": 1, "equations": 0.5, "quarter_periods": 0.5}
+WEIGHTS = {"experiments:map:text": 9, "experiments:map:caption": 3, "experiments:map:fig4": 3,
+           "experiments:fig5": 4, "experiments:fig2": 2, "experiments:first": 10,
+           "experiments:summary": 0.5, "motion": 7, "stability": 4, "bessel": 5, "series": 0.3,
+           "floquet": 0.3, "kernels": 1, "equations": 0.2, "quarter_periods": 0.2}
 
 
 def _weight(task):
