@@ -15,10 +15,9 @@ One untimed build of each comes first (bytecode caches written, as on a user's
 machine; PYTHONDONTWRITEBYTECODE is dropped from the children's environment).
 Prints the wall time and the CPU time (user + system of the build and of
 the worker processes it forks) of each, the ratios, and whether the two
-builds wrote the same bytes.  The speed-up work itself changed no product, but
-products changed since BASELINE for other reasons (the version in every header and
-manifest, the floquet product's certified digits in 0.4.0), so the files that differ
-are listed; the reproducibility of our own build is tests/test_build.py's job.
+builds wrote the same bytes.  Products changed since BASELINE (the version in every
+header and manifest, the floquet product's certified digits in 0.4.0, the figures'
+labels and layout in 0.5.0; no number changed), so the files that differ are listed; the reproducibility of our own build is tests/test_build.py's job.
 Target: wall <= 3 s on a 2-core machine.  The machine is shared and noisy;
 with ``--repeat`` the fastest round of each counts.  ``--jobs`` sets
 PENDULAB_JOBS for ours (1 = the serial path); ``--serial`` times the serial
