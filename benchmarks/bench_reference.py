@@ -7,7 +7,7 @@
    100 RK4 times each (30 001 output times), rtol 1e-13, atol 1e-15, nonlinear and linear.
    Ours: the scalar DOP853 (pendulab.numerics.dop853) on the generated scalar right-hand
    side; baseline: solve_ivp(method="DOP853") on the generated NumPy module (the former
-   route, integrate._reference_solve_ivp).
+   route, reference_solve_ivp below).
 2. variable_length_motion.integrate: the scene variable-length (L = L0 + v0 t, g 9.81,
    L0 1, v0 0.01, theta_0 0.05, t_end 100, 2001 points, the three events), linear and
    nonlinear.  Baseline: solve_ivp(method="DOP853") with the same scalar right-hand side,
@@ -71,6 +71,20 @@ def old_integrate(fos, length, values, t_end, theta_0, linear, points):
     return sol.y[0]
 
 
+
+def reference_solve_ivp(fos, y0, params, t_eval, linear):
+    """The former reference (the baseline): solve_ivp(method="DOP853") on the generated
+    NumPy module, vectorized; (states, nfev)."""
+    from scipy.integrate import solve_ivp
+
+    from pendulab.numerics.codegen import numpy_functions
+    f = numpy_functions(fos)["linear_rhs" if linear else "rhs"]
+    pc = np.asarray(params, float).reshape(-1, 1)
+    with np.errstate(all="ignore"):
+        sol = solve_ivp(lambda t, y: f(t, y, pc), (t_eval[0], t_eval[-1]), np.asarray(y0, float),
+                        method="DOP853", t_eval=t_eval, rtol=1e-13, atol=1e-15, vectorized=True)
+    return sol.y.T.copy(), sol.nfev
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
@@ -86,7 +100,7 @@ def main():
     print("reference_trajectory, rod, 30 001 times, rtol 1e-13:")
     for linear in (False, True):
         ours, a = best(lambda: I.reference_trajectory(fos, y0, p, t, linear=linear), args.repeat)
-        base, (b, nfev) = best(lambda: I._reference_solve_ivp(fos, y0, p, t, linear=linear),
+        base, (b, nfev) = best(lambda: reference_solve_ivp(fos, y0, p, t, linear),
                                args.repeat)
         print(f"  {'linear   ' if linear else 'nonlinear'}  ours {ours:7.3f} s   solve_ivp {base:7.3f} s"
               f"   ratio {base / ours:5.1f}x   max |diff| {np.max(np.abs(a - b)):.1e}"

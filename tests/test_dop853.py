@@ -2,7 +2,7 @@
 
 Provenance of the references:
 * the old route, SciPy's solve_ivp(method="DOP853") on the generated NumPy module
-  (:func:`pendulab.numerics.integrate._reference_solve_ivp`): same method, so the
+  (SciPy's solve_ivp on the generated NumPy module, below): same method, so the
   states agree to rounding and the evaluation counts are equal;
 * y'' = -y from (1, 0): y = cos t, y' = -sin t, zeros of y at pi/2 + k pi (closed form);
 * the rod's nonlinear equation (the derivation's ``fos.rhs`` lambdified for mpmath)
@@ -18,10 +18,25 @@ import sympy as sp
 
 from pendulab.errors import InputError
 from pendulab.numerics import dop853
-from pendulab.numerics.integrate import _reference_solve_ivp, reference_trajectory
+from pendulab.numerics.integrate import reference_trajectory
 
 from test_codegen import system  # noqa: E402
 
+
+
+def _reference_solve_ivp(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, atol=1e-15):
+    """The former reference, the independent method compared with: SciPy's
+    solve_ivp(method="DOP853") on the generated NumPy module; (states, nfev)."""
+    from scipy.integrate import solve_ivp
+
+    from pendulab.numerics.codegen import numpy_functions
+    f = numpy_functions(fos)["linear_rhs" if linear else "rhs"]
+    pc = np.asarray(params, float).reshape(-1, 1)
+    t_eval = np.asarray(t_eval, float)
+    with np.errstate(all="ignore"):
+        sol = solve_ivp(lambda t, y: f(t, y, pc), (t_eval[0], t_eval[-1]), np.asarray(y0, float),
+                        method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol, vectorized=True)
+    return sol.y.T.copy(), sol.nfev
 
 def oscillator(t, a, b):
     return b, -a
@@ -61,8 +76,8 @@ def test_evaluation_bound_and_overflow():
         dop853.solve(oscillator, t, (1.0, 0.0), 1e-13, 1e-15, max_evaluations=100)
 
     def blowup(t, a, b):
-        return a * a, 0.0  # y = 1/(1 - t): infinite at t = 1
-    with pytest.raises(dop853.NotFinite):
+        return a * a, 0.0  # y = 1/(1 - t): infinite at t = 1 (solve_ivp: the step collapses)
+    with pytest.raises((dop853.NotFinite, dop853.StepTooSmall)):
         dop853.solve(blowup, [0.0, 2.0], (1.0, 0.0), 1e-13, 1e-15)
 
 
@@ -106,3 +121,25 @@ def test_overflow_is_an_input_error():
     fos = system("rod")
     with pytest.raises(InputError, match="overflowed|evaluations"):
         reference_trajectory(fos, [0.3, 1e200], [0.2, 0.05], [0.0, 10.0])
+
+
+def test_step_too_small():
+    def stiff(t, a, b):  # y' = -1/(1-t)^3 ... a singularity the step cannot cross
+        return 1.0 / (1.0 - t) ** 2 if t != 1.0 else math.inf, 0.0
+    with pytest.raises((dop853.StepTooSmall, dop853.NotFinite)):
+        dop853.solve(stiff, [0.0, 2.0], (1.0, 0.0), 1e-13, 1e-15)
+
+
+def test_variable_length_t_eval_outside_the_span():
+    from pendulab.analyses import variable_length_motion as vm
+    from pendulab.equations import derive
+    from pendulab.exprs import parse
+    from pendulab.numerics.model import length_system
+    from pendulab.systems import VariableLength
+    system = VariableLength(length=parse("L0 + v0*t"))
+    fos = length_system(derive(system))
+    values = {"g": 9.81, "L0": 1.0, "v0": 0.01}
+    with pytest.raises(InputError, match="t_eval"):
+        vm.integrate(fos, system.length, values, 1.0, 0.05, t_eval=[0.0, 2.0])
+    tr = vm.integrate(fos, system.length, values, 1.0, 0.05, t_eval=[0.5, 1.0])
+    assert tr.t.tolist() == [0.5, 1.0] and len(tr.theta) == 2

@@ -244,6 +244,9 @@ def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False
     if t_eval is None:
         t_eval = np.linspace(0.0, t_end, int(points))
     t_eval = np.asarray(t_eval, dtype=float)
+    if (t_eval.ndim != 1 or not np.all(np.isfinite(t_eval)) or np.any(np.diff(t_eval) <= 0)
+            or (t_eval.size and (t_eval[0] < 0 or t_eval[-1] > t_end))):
+        raise InputError(f"t_eval: must be increasing times in [0, t_end = {t_end:.12g}]")
     try:
         tt_, ya, yb, found, nfev, stopped = dop853.solve(
             rhs, t_eval.tolist(), (theta_0, dtheta_0), rtol, atol, t_span=(0.0, t_end),
@@ -251,6 +254,8 @@ def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False
     except (dop853.NotFinite, ZeroDivisionError):
         raise ConvergenceError(f"DOP853 did not reach t_end = {t_end:.12g}: a state or its "
                                "derivative is no longer finite") from None
+    except dop853.StepTooSmall as e:
+        raise ConvergenceError(f"DOP853 did not reach t_end = {t_end:.12g}: {e}") from None
     if found[0][0]:
         te = float(found[0][0][0])
         raise LengthReachesZeroError(

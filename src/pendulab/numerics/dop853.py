@@ -34,6 +34,13 @@ class NotFinite(Exception):
     """The right-hand side or the state stopped being finite."""
 
 
+class StepTooSmall(Exception):
+    """The step fell below 10 spacings of the floats at t (solve_ivp's failure)."""
+
+    def __str__(self):
+        return "Required step size is less than spacing between numbers."
+
+
 def _tables():
     from scipy.integrate._ivp import dop853_coefficients as D
     return D
@@ -146,8 +153,9 @@ def solve(fun, t_eval, y0, rtol, atol, *, t_span=None, max_evaluations=None, eve
     as in solve_ivp.  Returns (times, states_a, states_b, events, nfev, stopped) with
     ``events`` a list of (times, states) per event function; ``stopped`` True when a
     terminal event ended the run (the outputs then stop at its time).  Raises
-    :class:`TooManyEvaluations` past ``max_evaluations`` calls and :class:`NotFinite`
-    when a state or a derivative is not finite.
+    :class:`TooManyEvaluations` past ``max_evaluations`` calls, :class:`NotFinite`
+    when a state or a derivative is not finite, :class:`StepTooSmall` when the step
+    falls below 10 spacings of the floats.
     """
     try:
         return _solve(fun, t_eval, y0, rtol, atol, t_span, max_evaluations, events)
@@ -212,7 +220,7 @@ def _solve(fun, t_eval, y0, rtol, atol, t_span, max_evaluations, events):
         rejected = False
         while True:
             if h_abs < min_step:
-                raise NotFinite("step size too small")
+                raise StepTooSmall
             h = h_abs * direction
             t_new = t + h
             if direction * (t_new - t_end) > 0:

@@ -167,11 +167,6 @@ def default_threads():
 
 # -- the NumPy path -------------------------------------------------------------------------
 
-def _numpy_rhs(fos, linear):
-    from pendulab.numerics.codegen import numpy_functions
-    return numpy_functions(fos)["linear_rhs" if linear else "rhs"]
-
-
 def _max_abs(a, b):
     x = np.abs(a)
     return np.where((x > b) | (x != x), x, b)
@@ -354,25 +349,12 @@ def reference_trajectory(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, a
                          "oscillation or rotation); ask for fewer periods or smaller values") from None
     except dop853.NotFinite:
         raise InputError("reference integration (DOP853) overflowed (a state is no longer finite)") from None
+    except dop853.StepTooSmall as e:
+        raise InputError(f"reference integration (DOP853) failed: {e}") from None
     out = np.column_stack([np.array(ya, float), np.array(yb, float)])
     if not np.all(np.isfinite(out)):
         raise InputError("reference integration (DOP853) overflowed (a state is no longer finite)")
     return out
-
-
-def _reference_solve_ivp(fos, y0, params, t_eval, *, linear=False, rtol=1e-13, atol=1e-15):
-    """The former reference: SciPy's solve_ivp(method="DOP853") on the generated NumPy module.
-
-    Kept to compare with (tests, benchmarks/bench_reference.py); no input checks.
-    """
-    from scipy.integrate import solve_ivp
-    f = _numpy_rhs(fos, linear)
-    pc = np.asarray(params, float).reshape(-1, 1)
-    t_eval = np.asarray(t_eval, float)
-    with np.errstate(all="ignore"):
-        sol = solve_ivp(lambda t, y: f(t, y, pc), (t_eval[0], t_eval[-1]), np.asarray(y0, float),
-                        method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol, vectorized=True)
-    return sol.y.T.copy(), sol.nfev
 
 
 def rk4_error(fos, y0, params, t0, dt, steps, linear=False, backend="auto"):
