@@ -258,8 +258,7 @@ def compute_scenes(scenes, jobs=1):
     * the derivations that several scenes share (same
       :func:`pendulab.equations.derivation_key`) are done here first, and so
       are the imports of the heavy modules that the products of several
-      scenes declare (``preload(options)`` of a product module: matplotlib,
-      scipy.integrate);
+      scenes declare (``preload(options)`` of a product module: matplotlib);
     * then ``jobs`` - 1 worker processes are forked (they inherit both), and
       this process and the workers take the tasks one at a time, dearest
       first (:data:`WEIGHTS`; :meth:`_Shared.take`): a task is a product,

@@ -785,8 +785,8 @@ def _check_body(ratio, inertia_ratio):
 
 
 def _first_root(f, lo, hi, steps=400):
-    """Smallest root of f in (lo, hi] by a scan and brentq (None if no sign change)."""
-    from scipy.optimize import brentq
+    """Smallest root of f in (lo, hi] by a scan and Brent's method (None if no sign change)."""
+    from pendulab.numerics.roots import brent_root
     xs = [lo + (hi - lo) * i / steps for i in range(steps + 1)]
     prev_x, prev_f = xs[0], f(xs[0])
     if prev_f == 0:
@@ -796,7 +796,7 @@ def _first_root(f, lo, hi, steps=400):
         if fx == 0:
             return x
         if (fx > 0) != (prev_f > 0):
-            return brentq(f, prev_x, x, xtol=1e-15, maxiter=200)
+            return brent_root(f, prev_x, x, xtol=1e-15, maxiter=200)
         prev_x, prev_f = x, fx
     return None
 
@@ -854,7 +854,7 @@ def _branch_theta1(polys, x, target):
     real = [r.real for r in roots if abs(r.imag) <= 1e-9 * max(1.0, abs(r)) and r.real > 0]
     if not real:
         return None
-    from scipy.optimize import brentq
+    from pendulab.numerics.roots import brent_root
     t = min(real)
 
     def f(s):
@@ -862,7 +862,7 @@ def _branch_theta1(polys, x, target):
 
     a, b = t * (1 - 1e-6), t * (1 + 1e-6)
     if f(a) * f(b) < 0:
-        t = brentq(f, a, b, xtol=1e-16, maxiter=200)
+        t = brent_root(f, a, b, xtol=1e-16, maxiter=200)
     return t
 
 
@@ -877,7 +877,7 @@ def _branch_scan(polys, xs, target):
     The work of the scalar function is done for a batch of x at once: the
     coefficients by the same Horner steps on arrays, the roots as the
     eigenvalues of the same companion matrices that numpy.roots builds, in one
-    batched LAPACK call.  The polishing of a root by brentq (the costly part)
+    batched LAPACK call.  The polishing of a root by Brent's method (the costly part)
     is left until a comparison needs it (:meth:`_Root.less`).  A point whose
     leading coefficient is zero (numpy.roots would trim it) goes through the
     scalar function.
@@ -920,10 +920,10 @@ SCAN_BATCH = 128
 
 
 class _Root:
-    """The root t of :func:`_branch_theta1` before brentq's polishing, which is done on demand.
+    """The root t of :func:`_branch_theta1` before Brent's polishing, which is done on demand.
 
     The polished value lies in the bracket [t (1 - 1e-6), t (1 + 1e-6)] that
-    brentq searches (t > 0), or is t itself; :meth:`less` compares two roots
+    Brent's method searches (t > 0), or is t itself; :meth:`less` compares two roots
     by their brackets and polishes only when the brackets overlap.
     """
 
@@ -951,8 +951,8 @@ class _Root:
 
             a, b = self.lo, self.hi
             if f(a) * f(b) < 0:
-                from scipy.optimize import brentq
-                self.t = brentq(f, a, b, xtol=1e-16, maxiter=200)
+                from pendulab.numerics.roots import brent_root
+                self.t = brent_root(f, a, b, xtol=1e-16, maxiter=200)
             self.lo = self.hi = self.t
             self.polished = True
         return self.t
@@ -1036,12 +1036,11 @@ def interval_series_theta1(order, target):
         if t is None:
             break
         if t.less(prev[1]):
-            from scipy.optimize import minimize_scalar
+            from pendulab.numerics.roots import brent_minimum
             lo_x = before[0] if before is not None else target
-            res = minimize_scalar(lambda s: -(_branch_theta1(polys, s, target) or 0.0),
-                                  bounds=(lo_x, float(x)), method="bounded",
-                                  options={"xatol": 1e-13, "maxiter": 500})
-            upper_t1 = max(-res.fun, prev[1].value())
+            _, low = brent_minimum(lambda s: -(_branch_theta1(polys, s, target) or 0.0),
+                                   lo_x, float(x), xatol=1e-13, maxiter=500)
+            upper_t1 = max(-low, prev[1].value())
             break
         before, prev = prev, (float(x), t)
     return lower_t1, upper_t1

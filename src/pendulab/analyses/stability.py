@@ -549,9 +549,9 @@ def hill_limits(pmap, ratio, groups=None, top=HILL_SCAN_TOP, step=HILL_SCAN_STEP
     up to ``top``.
     """
     import numpy as np
-    from scipy.optimize import brentq
 
     from pendulab.numerics.monodromy import traces_along
+    from pendulab.numerics.roots import brent_root
 
     fos = pmap.system
     params = {"w0_over_w": ratio, **(groups or {})}
@@ -568,10 +568,10 @@ def hill_limits(pmap, ratio, groups=None, top=HILL_SCAN_TOP, step=HILL_SCAN_STEP
     if first.size == 0:
         return None, None
     i = int(first[0])
-    lower = 0.0 if i == 0 else brentq(g, xs[i - 1], xs[i], xtol=1e-12, rtol=1e-13)
+    lower = 0.0 if i == 0 else brent_root(g, xs[i - 1], xs[i], xtol=1e-12, rtol=1e-13)
     after = np.nonzero(~stable[i:])[0]
     if after.size == 0:
         return float(lower), None
     j = i + int(after[0])
-    upper = brentq(g, xs[j - 1], xs[j], xtol=1e-12, rtol=1e-13)
+    upper = brent_root(g, xs[j - 1], xs[j], xtol=1e-12, rtol=1e-13)
     return float(lower), float(upper)

@@ -132,7 +132,7 @@ def length_zero_time(length, values, horizon=None):
 
     Exact for a polynomial L(t) (real roots of the polynomial); for any other
     length the interval (0, ``horizon``] is scanned on 4096 points and the
-    first sign change refined by Brent's method (scipy.optimize.brentq), so a
+    first sign change refined by Brent's method (pendulab.numerics.roots), so a
     zero the scan steps over is left to the integrator's event.
     """
     fn, expr = length_function(length, values)
@@ -145,14 +145,14 @@ def length_zero_time(length, values, horizon=None):
         return positive[0] if positive else None
     if horizon is None:
         return None
-    from scipy.optimize import brentq
+    from pendulab.numerics.roots import brent_root
     grid = np.linspace(0.0, float(horizon), 4097)
     vals = np.array([fn(x) for x in grid])
     below = np.nonzero(vals <= 0)[0]
     if below.size == 0:
         return None
     j = below[0]
-    return brentq(fn, grid[j - 1], grid[j], xtol=1e-14, rtol=1e-15) if j > 0 else 0.0
+    return brent_root(fn, grid[j - 1], grid[j], xtol=1e-14, rtol=1e-15) if j > 0 else 0.0
 
 
 # ---------------------------------------------------------------------------

@@ -41,9 +41,41 @@ class StepTooSmall(Exception):
         return "Required step size is less than spacing between numbers."
 
 
+_TABLES = "scipy.integrate._ivp.dop853_coefficients"
+
+
 def _tables():
-    from scipy.integrate._ivp import dop853_coefficients as D
-    return D
+    """SciPy's module of DOP853 coefficients, read without importing ``scipy.integrate``.
+
+    The module itself needs only NumPy; importing it by name would first run
+    ``scipy.integrate``'s package initialisation, which imports scipy.optimize,
+    scipy.special and the quadrature code (about 0.3 s that a build would pay
+    in every process).  So it is loaded from its file, found through SciPy's
+    own package location, under its own name; where that file is not where
+    this SciPy keeps it, the ordinary import is used.
+    """
+    import importlib.util
+    import sys
+    loaded = sys.modules.get(_TABLES) or sys.modules.get("_pendulab_" + _TABLES)
+    if loaded is not None:
+        return loaded
+    spec = importlib.util.find_spec("scipy")
+    path = None
+    if spec is not None and spec.submodule_search_locations:
+        import os
+        for root in spec.submodule_search_locations:
+            candidate = os.path.join(root, "integrate", "_ivp", "dop853_coefficients.py")
+            if os.path.isfile(candidate):
+                path = candidate
+                break
+    if path is None:
+        import importlib
+        return importlib.import_module(_TABLES)
+    mspec = importlib.util.spec_from_file_location("_pendulab_" + _TABLES, path)
+    module = importlib.util.module_from_spec(mspec)
+    mspec.loader.exec_module(module)
+    sys.modules["_pendulab_" + _TABLES] = module
+    return module
 
 
 def _lit(x):
@@ -140,9 +172,8 @@ def _dense(f, t, h, ya, yb, yna, ynb, ks, extra):
 
 def _brent(g, a, b):
     """solve_ivp's solve_event_equation: Brent's method to 4 machine epsilons."""
-    from scipy.optimize import brentq
-    eps = 2.220446049250313e-16
-    return brentq(g, a, b, xtol=4 * eps, rtol=4 * eps)
+    from pendulab.numerics.roots import EPS, brent_root
+    return brent_root(g, a, b, xtol=4 * EPS, rtol=4 * EPS)
 
 
 def solve(fun, t_eval, y0, rtol, atol, *, t_span=None, max_evaluations=None, events=()):

@@ -165,10 +165,10 @@ def series_nu(theta0, theta1, order):
     import warnings
 
     import numpy as np
-    from scipy.optimize import brentq
 
     from pendulab.analyses.series import theta0_of_nu
     from pendulab.errors import AccuracyWarning
+    from pendulab.numerics.roots import brent_root
 
     grid = np.linspace(1e-4, 0.999, 2000)
     with warnings.catch_warnings():
@@ -181,7 +181,7 @@ def series_nu(theta0, theta1, order):
         raise InputError(f"the order-{order} series has no nu in (0, 1) with theta0 = {theta0!r} at "
                          f"theta1 = {theta1!r} (outside its stability interval)")
     k = sign[0]
-    return brentq(lambda x: theta0_of_nu(x, theta1, order)[0] - theta0, grid[k], grid[k + 1],
+    return brent_root(lambda x: theta0_of_nu(x, theta1, order)[0] - theta0, grid[k], grid[k + 1],
                   xtol=1e-15, rtol=1e-15)
 
 

@@ -76,8 +76,7 @@ def system_spec(ctx):
 def preload(options):
     """Heavy modules this product imports: :func:`pendulab.build.compute_scenes` imports those
     that two or more scenes need once, before it forks its workers."""
-    return (("matplotlib",) if options["figures"] else ()) + \
-        (("scipy.integrate",) if options["fig5"] or options["fig2"] else ())
+    return ("matplotlib",) if options["figures"] else ()
 
 
 def check_options(options):

@@ -74,7 +74,7 @@ OPTIONS = {
 
 def preload(options):
     """Heavy modules this product imports (see :func:`pendulab.build.compute_scenes`)."""
-    return ("scipy.integrate",) + (("matplotlib",) if options["figures"] else ())
+    return ("matplotlib",) if options["figures"] else ()
 
 
 def check_options(options):
@@ -254,7 +254,7 @@ def document(ctx, options, keep):
         "t_end": options["t_end"],
         "points": options["points"],
         "length_zero_time": None if zero is None else _g(zero, 12),
-        "integrator": {"method": "DOP853 (scipy.integrate.solve_ivp)", "rtol": vm.RTOL,
+        "integrator": {"method": "DOP853 (pendulab.numerics.dop853)", "rtol": vm.RTOL,
                        "rhs": "numerics.model.length_system: 002 eq. 4 (linear), eq. 3 (nonlinear)"},
     }
     keep["values"] = values
