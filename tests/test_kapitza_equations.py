@@ -151,3 +151,13 @@ def test_two_harmonic_drive_is_hill_not_mathieu():
 def test_bad_systems(kwargs, fragment):
     with pytest.raises(InputError, match=fragment.replace("(", r"\(").replace(")", r"\)")):
         DrivenPivot(**kwargs)
+
+
+def test_g_of_omega0_is_what_solve_gives():
+    """equations.g_of_omega0 (the slope of a relation linear in g) against SymPy's solve,
+    expression for expression (srepr), and the relation it inverts holds."""
+    from pendulab import symbols as S
+    from pendulab.equations import OMEGA0_SQUARED, g_of_omega0
+    solved, = sp.solve(sp.Eq(S.omega0**2, OMEGA0_SQUARED), S.g)
+    assert sp.srepr(g_of_omega0()) == sp.srepr(solved)
+    assert sp.expand(OMEGA0_SQUARED.subs(S.g, g_of_omega0()) - S.omega0**2) == 0
