@@ -412,9 +412,11 @@ def _run_serial(scene):
 
 
 def _share_derivations(scenes):
-    """Derive, in this process, the equations that two or more of ``scenes`` have in common."""
+    """Derive, in this process, the equations that two or more of ``scenes`` have in common,
+    and their canonical form (which the analyses of such scenes read; its first simplify
+    also imports sympy.physics.units, about 0.1 s that each process would pay again)."""
     from pendulab.equations import derivation_key, derive
-    from pendulab.pipeline import Context
+    from pendulab.pipeline import Context, canonical_form
     systems = {}
     for sc in scenes:
         try:
@@ -426,7 +428,7 @@ def _share_derivations(scenes):
     for key, found in systems.items():
         if len(found) > 1:
             try:
-                derive(found[0])
+                canonical_form(derive(found[0]))
             except PendulabError:
                 pass
 
