@@ -569,6 +569,18 @@ def test_a_worker_that_dies_is_replaced_by_the_parent(tmp_path, monkeypatch):
     assert (out / "b" / "equations.json").exists()
 
 
+def test_a_parallel_build_leaves_the_callers_garbage_collector_as_it_was(tmp_path):
+    """compute_scenes freezes the heap it shares with the workers it forks; an API caller's
+    process gets it back unfrozen, with its own thresholds."""
+    import gc
+    before = gc.get_threshold()
+    scenes = _scenes(tmp_path)
+    assert build(scenes, tmp_path / "out", log=lambda m: None, jobs=2) == \
+        {"a": "built", "b": "built", "c": "built"}
+    assert gc.get_freeze_count() == 0
+    assert gc.get_threshold() == before
+
+
 MANY = {"m.toml": 'system = "kapitza"\n[parameters]\nbody = "rod"\n[products.equations]\n'
                    '[products.kernels]\n[products.series]\norder = 4\n'
                    '[products.stability]\npoints = 3\nmax_ratio = "1/2"\nmethods = ["eq28"]\n'

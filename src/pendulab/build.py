@@ -288,6 +288,8 @@ def compute_scenes(scenes, jobs=1):
     _share_derivations(scenes)
     _preload(scenes)
     tasks.sort(key=lambda t: -_weight(t))  # stable: scene order within a weight
+    import gc
+    gc.freeze()  # the shared heap stays out of the collections (the workers' pages stay shared)
     fork = mp.get_context("fork")
     state = _Shared(fork.Array("b", len(tasks)), fork.Array("i", len(scenes)), fork.Value("b", 0),
                     [_weight(t) for t in tasks])
@@ -313,6 +315,7 @@ def compute_scenes(scenes, jobs=1):
                 proc.terminate()
             proc.join()
             receive.close()
+        gc.unfreeze()  # this process goes on (an API caller's): its objects are collectable again
     out = []
     for i, sc in enumerate(scenes):
         mine = [k for k, (j, _, _) in enumerate(tasks) if j == i]

@@ -156,6 +156,10 @@ def main(argv=None):
         return 130
 
 
+#: gc.set_threshold of the ``pendulab`` command (see :func:`console`).
+GC_THRESHOLDS = (20000, 50, 100)
+
+
 def console(argv=None):
     """The ``pendulab`` command: :func:`main`, then exit at once with its status.
 
@@ -167,8 +171,17 @@ def console(argv=None):
     the lock released), and no pendulab code relies on exit handlers.  An
     exception that :func:`main` lets through (a bug: a traceback) takes the
     ordinary exit.
+
+    The cyclic garbage collector runs less often than Python's default (a
+    young collection every 20000 net allocations of containers instead of
+    700): SymPy allocates millions of short-lived containers, few of them in
+    cycles, and with the default the collector took about 10% of a build's
+    CPU (0.68 s of one serial build, measured with ``gc.callbacks``; 0.2 s
+    with these thresholds, for 5% more peak memory).
     """
+    import gc
     import os
+    gc.set_threshold(*GC_THRESHOLDS)
     status = main(argv)
     for stream in (sys.stdout, sys.stderr):
         try:
