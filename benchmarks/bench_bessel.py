@@ -1,6 +1,7 @@
 """Speed of the certified Bessel computations (issue 11), one command:
 
-    python benchmarks/bench_bessel.py          (add --quick to time the mpmath loop on 200 zeros only)
+    python benchmarks/bench_bessel.py          (add --quick to time the mpmath loop on 200 zeros only;
+                                                --products [--rounds N] for section 5 alone)
 
 Our timings are the best of a few runs (the least disturbed by other jobs on
 a shared machine); the mpmath loop runs once (it is long).
@@ -16,11 +17,23 @@ a shared machine); the mpmath loop runs once (it is long).
    (certified balls), and the same check by the mpmath engine.  Target: <= 1 s.
 4. Scaling with dps (15, 50, 200, 1000): 100 zeros of J1, and the identity
    check n = 0..2 on 20 points, arb engine; time and ratio to dps 15.
+5. The build's products of derivations/variable-length.toml that rest on these
+   computations: bessel, quarter_periods and kernels, each in a fresh
+   interpreter that first does what ``pendulab build`` does before it forks
+   its workers (scenes read, shared derivations, preloaded modules) and
+   computes the scene's stages, so that the CPU time printed is the
+   product's own.  Ours against the source at PRODUCTS_BASELINE (extracted
+   with ``git archive``), alternating, best of ``--rounds`` (default 3); the
+   texts of both must be the same.  ``--products`` runs this section only.
 """
 
+import json
 import os
+import subprocess
 import sys
+import tempfile
 import time
+from pathlib import Path
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
 
@@ -53,7 +66,80 @@ def mpmath_loop(count, dps):
                 for n in (1, 2)]
 
 
+ROOT = Path(__file__).resolve().parents[1]
+#: the commit before the work on these products' CPU time (McMahon passes, ring asymptotics, lambdify)
+PRODUCTS_BASELINE = "fba1f7a"
+PRODUCTS = ("bessel", "quarter_periods", "kernels")
+SCENE = "variable-length"
+
+# run in a fresh interpreter with the version's src/ first on sys.path; prints one JSON line
+_CHILD = r"""
+import hashlib, json, sys, time
+from pathlib import Path
+from pendulab import build
+from pendulab.pipeline import Context, run_part
+from pendulab.scene import load_scene
+root, name, product = Path(sys.argv[1]), sys.argv[2], sys.argv[3]
+scenes = [load_scene(p) for p in sorted((root / "derivations").glob("*.toml"))]
+build._share_derivations(scenes)  # what the build's parent does before it forks
+build._preload(scenes)
+scene = next(sc for sc in scenes if sc.name == name)
+ctx = Context(scene)
+for stage in ("system", "equations", "canonical"):
+    ctx.get(stage)
+cpu = time.process_time()
+files = run_part(ctx, product, None)
+cpu = time.process_time() - cpu
+digest = hashlib.sha256(json.dumps(files, sort_keys=True).encode()).hexdigest()
+print(json.dumps({"cpu": cpu, "digest": digest}))
+"""
+
+
+def _product_cpu(src, product):
+    env = dict(os.environ, PYTHONPATH=str(src))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)  # bytecode caches used, as on a user's machine
+    out = subprocess.run([sys.executable, "-c", _CHILD, str(ROOT), SCENE, product], env=env,
+                         cwd=str(ROOT), check=True, capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def products(rounds=3):
+    """Section 5 (module docstring): CPU of each product, ours and the baseline's, and the ratio."""
+    with tempfile.TemporaryDirectory() as tmp:
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", PRODUCTS_BASELINE, "src"],
+                                 capture_output=True, check=True).stdout
+        subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
+        versions = {"ours": ROOT / "src", "baseline": Path(tmp) / "src"}
+        for src in versions.values():  # untimed: bytecode caches written
+            for product in PRODUCTS:
+                _product_cpu(src, product)
+        best, digests = {}, {}
+        for _ in range(rounds):
+            for product in PRODUCTS:
+                for who, src in versions.items():
+                    res = _product_cpu(src, product)
+                    key = (who, product)
+                    best[key] = min(best.get(key, res["cpu"]), res["cpu"])
+                    digests.setdefault(key, set()).add(res["digest"])
+    print(f"5. products of derivations/{SCENE}.toml, CPU s in a fresh interpreter after the build's "
+          f"pre-fork work, best of {rounds} (baseline {PRODUCTS_BASELINE}):")
+    total = {"ours": 0.0, "baseline": 0.0}
+    for product in PRODUCTS:
+        ours, base = best["ours", product], best["baseline", product]
+        total["ours"] += ours
+        total["baseline"] += base
+        same = digests["ours", product] == digests["baseline", product] and len(digests["ours", product]) == 1
+        print(f"   {product:16s} ours {ours:6.3f}   baseline {base:6.3f}   ratio {base / ours:5.2f}x   "
+              f"same texts: {same}")
+    print(f"   {'together':16s} ours {total['ours']:6.3f}   baseline {total['baseline']:6.3f}   "
+          f"ratio {total['baseline'] / total['ours']:5.2f}x")
+
+
 def main():
+    if "--products" in sys.argv:
+        rounds = int(sys.argv[sys.argv.index("--rounds") + 1]) if "--rounds" in sys.argv else 3
+        products(rounds)
+        return
     quick = "--quick" in sys.argv
     bessel_zeros(1, 3, 50)  # derive the expansions once (cached), as a session would
     def both():
@@ -111,6 +197,7 @@ def main():
             base = (tz, ti)
         print(f"   dps {dps:5d}: zeros {tz:7.3f} s ({tz / base[0]:6.1f}x)   identities {ti:7.3f} s "
               f"({ti / base[1]:6.1f}x)")
+    products()
 
 
 if __name__ == "__main__":

@@ -99,3 +99,35 @@ def test_scaled_square_is_the_expanded_square_of_mcmahons_zero(nu, shift, order)
     p = sp.Poly(sp.expand(_scaled_zero(nu, shift, u, order) ** 2), u)
     slow = sp.expand(sum(p.coeff_monomial(u ** i) * u ** i for i in range(order + 3)))
     assert _scaled_square(nu, shift, u, order) == slow
+
+
+@pytest.mark.parametrize("order", [2, 4, 6])
+def test_quarter_period_asymptotics_equal_sympys_route(order):
+    """Differences taken in the exact ring and written out in k once, against the route they
+    replaced: SymPy expressions in u substituted u = 1/k, expanded, and SymPy's limit."""
+    from pendulab.analyses.bessel_asymptotics import _scaled_square, quarter_period_asymptotics
+    u, k = sp.Symbol("u", positive=True), sp.Symbol("k", positive=True)
+    sq = {key: _scaled_square(*key, u, order) for key in ((1, 1), (1, 2), (2, 1), (2, 2))}
+    slow = {name: sp.expand(e.subs(u, 1 / k) * k ** 2) for name, e in (
+        ("inward", sq[1, 2] - sq[2, 1]), ("outward", sq[2, 2] - sq[1, 2]),
+        ("outward_before", sq[2, 1] - sq[1, 1]))}
+    slow["margin_after"] = sp.expand(slow["inward"] - slow["outward"])
+    slow["margin_before"] = sp.expand(slow["inward"] - slow.pop("outward_before"))
+    slow["limit_margin_after"] = sp.limit(slow["margin_after"], k, sp.oo)
+    slow["limit_margin_before"] = sp.limit(slow["margin_before"], k, sp.oo)
+    fast = quarter_period_asymptotics(order)
+    assert fast["k"] == k
+    for name, expr in slow.items():
+        assert fast[name] == expr, name  # the same tree, so the same text in bessel.json
+        assert sp.sstr(fast[name], order=None) == sp.sstr(expr, order=None), name
+
+
+def test_limit_of_a_growing_expansion_is_left_to_sympy():
+    """_in_k: a term in a positive power of k that survives makes the limit SymPy's (oo here)."""
+    from pendulab.analyses.bessel_asymptotics import _in_k, _square_ring
+    _, U, P, R = _square_ring()
+    k = sp.Symbol("k", positive=True)
+    expr, limit = _in_k(P * P * U + 3 * U * U - P * R * U ** 2, k)  # pi^2 k + 3 - 1
+    assert expr == sp.pi ** 2 * k + 2 and limit == sp.oo
+    expr, limit = _in_k(P * R * U - U + 5 * U * U + U ** 3, k)  # k - k + 5 + 1/k
+    assert limit == 5

@@ -38,6 +38,23 @@ def test_mcmahon_coefficients_are_dlmf_10_21_19():
     assert c[3] == -64 * (MU - 1) * (6949 * MU ** 3 - 153855 * MU ** 2 + 1585743 * MU - 6277237) / (105 * 8 ** 7)
 
 
+def _mcmahon_full_order_passes(terms):
+    """The reversion as first written: terms + 1 fixed-point passes, every one at the full order."""
+    from pendulab.analyses.bessel_asymptotics import _inv, _phi_of, _zero
+    n = 2 * terms + 1
+    delta = _zero(n)
+    for _ in range(terms + 1):
+        y = [fmpq_poly(0)] + _inv([fmpq_poly(1)] + delta[:n], n)[:n]
+        delta = [-c for c in _phi_of(y, n, terms)]
+    return tuple(delta[2 * j - 1] for j in range(1, terms + 1))
+
+
+@pytest.mark.parametrize("terms", [1, 2, 5, 10, 12])
+def test_mcmahon_truncated_passes_equal_full_order_passes(terms):
+    """The cheap passes (pass i truncated after s^2i) give the same exact rationals."""
+    assert mcmahon_coefficients(terms) == _mcmahon_full_order_passes(terms)
+
+
 def test_phase_coefficients_are_dlmf_10_18_18():
     d = phase_coefficients()
     assert d[1] == (MU - 1) / (2 * 4)

@@ -35,6 +35,7 @@ _MU = fmpq_poly([0, 1])
 TERMS = 10
 
 
+@lru_cache(maxsize=None)
 def hankel_coefficient(k):
     """a_k(nu) of DLMF 10.17.1 as an exact polynomial in mu = 4 nu^2."""
     num = fmpq_poly([1])
@@ -113,15 +114,21 @@ def mcmahon_coefficients(terms=TERMS):
     """c_j(mu) of j_nu,k ~ beta + sum_j c_j beta^-(2j-1), j = 1..terms (DLMF 10.21.19).
 
     Derived by reverting x = beta - phi(x) (see the module docstring) with
-    fixed-point iteration on truncated series in s = 1/beta: each pass fixes
-    two more powers.  Returns a tuple of fmpq_poly in mu, entry j-1 for c_j.
+    fixed-point iteration on truncated series in s = 1/beta: pass i makes the
+    coefficients of s^1 .. s^2i final (delta has no s^0, and y = s/(1 + s delta)
+    needs delta only to s^(m-2) for its s^m), so pass i is computed truncated
+    after s^2i, and only the last pass at the full order 2 terms + 1.  The
+    coefficients are the same exact rationals as those of full-order passes
+    throughout (tests/test_bessel_zeros.py compares the two), in a quarter of the time.
+    Returns a tuple of fmpq_poly in mu, entry j-1 for c_j.
     """
     n = 2 * terms + 1
     delta = _zero(n)  # x - beta as a series in s
-    for _ in range(terms + 1):
-        one_s_delta = [fmpq_poly(1)] + delta[:n]  # 1 + s*delta
-        y = [fmpq_poly(0)] + _inv(one_s_delta, n)[:n]  # 1/x = s/(1 + s delta)
-        delta = [-c for c in _phi_of(y, n, terms)]
+    for i in range(1, terms + 1):
+        m = n if i == terms else min(n, 2 * i)  # pass i fixes s^1 .. s^2i
+        one_s_delta = [fmpq_poly(1)] + delta[:m]  # 1 + s*delta
+        y = [fmpq_poly(0)] + _inv(one_s_delta, m)[:m]  # 1/x = s/(1 + s delta)
+        delta = [-c for c in _phi_of(y, m, terms)] + _zero(n - m - 1)
     if any(delta[j] != 0 for j in range(0, n + 1, 2)):
         raise ArithmeticError("McMahon reversion produced even powers")  # cannot happen
     return tuple(delta[2 * j - 1] for j in range(1, terms + 1))
@@ -171,17 +178,18 @@ def _scaled_zero(nu, shift, u, order):
     return sp.expand(out)
 
 
-def _scaled_square(nu, shift, u, order):
-    """(u j_{nu, 1/u + shift})^2 to u^(order+2): :func:`_scaled_zero` squared and truncated.
-
-    The same polynomial, computed in the exact ring Q[u, P, R] with P = pi and
-    R = 1/pi (SymPy's sparse polynomials; P R = 1 is applied when the terms
-    are written out) instead of expanding SymPy expressions: a tenth of the time.
-    """
+def _square_ring():
+    """The exact ring Q[U, P, R] of :func:`_scaled_square` (P = pi, R = 1/pi)."""
     import sympy as sp
     from sympy.polys.rings import ring
+    return ring("U,P,R", sp.QQ)
+
+
+def _scaled_square_poly(nu, shift, order):
+    """(u j_{nu, 1/u + shift})^2 to u^(order+2) as an element of :func:`_square_ring` (U = u)."""
+    import sympy as sp
     top = order + 2
-    ring_, U, P, R = ring("U,P,R", sp.QQ)
+    ring_, U, P, R = _square_ring()
     nu = sp.Rational(nu)
     a = sp.QQ.convert(shift + nu / 2 - sp.Rational(1, 4))
     mu = fmpq(int((4 * nu ** 2).p), int((4 * nu ** 2).q))
@@ -198,10 +206,40 @@ def _scaled_square(nu, shift, u, order):
         binom = sum((int(sp.binomial(-(2 * j - 1), m)) * au ** m for m in range(top - m0 + 1)),
                     ring_.zero)
         out += sp.QQ(int(cj.p), int(cj.q)) * R ** (2 * j - 1) * U ** m0 * binom
-    sq = truncate(out * out)
+    return truncate(out * out)
+
+
+def _scaled_square(nu, shift, u, order):
+    """(u j_{nu, 1/u + shift})^2 to u^(order+2): :func:`_scaled_zero` squared and truncated.
+
+    The same polynomial, computed in the exact ring Q[u, P, R] with P = pi and
+    R = 1/pi (SymPy's sparse polynomials; P R = 1 is applied when the terms
+    are written out) instead of expanding SymPy expressions: a tenth of the time.
+    """
+    import sympy as sp
+    sq = _scaled_square_poly(nu, shift, order)
     terms = [sp.Rational(int(c.numerator), int(c.denominator)) * sp.pi ** (m[1] - m[2]) * u ** m[0]
              for m, c in sq.terms()]
     return sp.expand(sp.Add(*terms))
+
+
+def _in_k(poly, k, limit=True):
+    """k^2 poly(U = 1/k) written out (P R = 1), and its limit as k -> oo (None if not ``limit``).
+
+    The expression is a finite sum c pi^e k^p; its terms are gathered by the power p of k.
+    With no positive power left the limit is the sum of the k^0 terms (every other term
+    tends to 0); otherwise SymPy's ``limit`` decides it.
+    """
+    import sympy as sp
+    by_power = {}
+    for m, c in poly.terms():
+        term = sp.Rational(int(c.numerator), int(c.denominator)) * sp.pi ** (m[1] - m[2])
+        by_power.setdefault(2 - m[0], []).append(term)
+    expr = sp.Add(*(c * k ** p for p, cs in by_power.items() for c in cs))
+    if not limit:
+        return expr, None
+    growing = [p for p, cs in by_power.items() if p > 0 and sp.Add(*cs) != 0]
+    return expr, sp.limit(expr, k, sp.oo) if growing else sp.Add(*by_power.get(0, []))
 
 
 def quarter_period_asymptotics(order=4):
@@ -214,28 +252,26 @@ def quarter_period_asymptotics(order=4):
     each quantity expanded in powers of 1/k down to k^-order, and the limits
     of the two margins as k -> oo.  Nothing is typed in: the expansions come
     from :func:`mcmahon_coefficients`, the reversion of Hankel's expansion.
+
+    The sums and differences are taken in the exact ring of :func:`_scaled_square_poly`
+    and written out in k once (:func:`_in_k`); tests/test_bessel_periods.py
+    compares the result with SymPy's own route (substitution, ``expand``, ``limit``).
     """
     import sympy as sp
     k = sp.Symbol("k", positive=True)
-    u = sp.Symbol("u", positive=True)
-    top = order + 2
 
     squares = {}
 
     def square(nu, shift):  # u^2 j_{nu,k+shift}^2, truncated (each (nu, shift) expanded once)
         if (nu, shift) not in squares:
-            squares[nu, shift] = _scaled_square(nu, shift, u, order)
+            squares[nu, shift] = _scaled_square_poly(nu, shift, order)
         return squares[nu, shift]
 
-    scaled = {
-        "inward": square(1, 2) - square(2, 1),
-        "outward": square(2, 2) - square(1, 2),
-        "outward_before": square(2, 1) - square(1, 1),
-    }
-    out = {name: sp.expand(e.subs(u, 1 / k) * k ** 2) for name, e in scaled.items()}
-    out["margin_after"] = sp.expand(out["inward"] - out["outward"])
-    out["margin_before"] = sp.expand(out["inward"] - out.pop("outward_before"))
-    out["limit_margin_after"] = sp.limit(out["margin_after"], k, sp.oo)
-    out["limit_margin_before"] = sp.limit(out["margin_before"], k, sp.oo)
+    inward = square(1, 2) - square(2, 1)
+    outward = square(2, 2) - square(1, 2)
+    outward_before = square(2, 1) - square(1, 1)
+    out = {"inward": _in_k(inward, k, limit=False)[0], "outward": _in_k(outward, k, limit=False)[0]}
+    out["margin_after"], out["limit_margin_after"] = _in_k(inward - outward, k)
+    out["margin_before"], out["limit_margin_before"] = _in_k(inward - outward_before, k)
     out["k"] = k
     return out
