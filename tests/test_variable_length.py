@@ -194,3 +194,55 @@ def test_amplitude_constant_C_when_z0_is_a_zero_of_J2(linear_case):
         Cv = mpmath.pi * L0v * mpmath.sqrt(gv) * mpmath.bessely(2, j21) / vv
         theta0_back = -Cv / mpmath.sqrt(L0v) * mpmath.besselj(1, 2 / vv * mpmath.sqrt(gv * L0v))
         assert abs(theta0_back - 1) < mpmath.mpf("1e-25")
+
+
+def test_chain_rule_derivatives_are_the_direct_ones(linear_case):
+    """The closed form's fast residual route (bessel.chain_derivatives: F'(z) z', F'' z'^2 + F' z'')
+    gives the derivatives SymPy forms by differentiating F(z(L)) and F(z(t)) directly."""
+    from pendulab.analyses.bessel import _fast_zero, chain_derivatives
+    _, _, _, sol = linear_case
+    for var, inner in ((Lv, sol.z_of_L), (t, sol.z_of_L.subs(Lv, L0 + v0 * t))):
+        direct = sol.general_z.subs(S.z, inner)
+        chained = [e.subs(S.z, inner) for e in chain_derivatives(sol.general_z, inner, var)]
+        for n in range(3):
+            assert _fast_zero(chained[n] - direct.diff(var, n))
+        # and the test can fail: the first derivative is not the second
+        assert not _fast_zero(chained[1] - direct.diff(var, 2))
+
+
+def test_residuals_are_proved_by_the_fast_route(linear_case, monkeypatch):
+    """Both residuals (L-form and t-form) are shown to be 0 without SymPy's simplify."""
+    from pendulab.analyses import bessel
+
+    def refuse(expr):
+        raise AssertionError("the fast route did not prove the residual")
+    monkeypatch.setattr(bessel, "_simplified_residual", refuse)
+    _, _, form, _ = linear_case
+    for length in (L0 + v0 * t, L0 - v0 * t, parse("3/2 + t/7")):
+        system = VariableLength(length=length)
+        sol = closed_form(length_form(derive(system)), system.length)
+        assert sol.residuals == (0, 0)
+
+
+def test_a_wrong_solution_leaves_a_residual(linear_case):
+    """The residual checks can fail: with the order p = 2 in place of 1 (theta = A z^-1 J2(z) + ...),
+    neither the L-form nor the t-form residual is 0."""
+    import dataclasses
+    _, _, form, _ = linear_case
+    sol = closed_form(dataclasses.replace(form, p=sp.Integer(2)), L0 + v0 * t)
+    assert sol.residual_L != 0 and sol.residual_t != 0
+
+
+def test_cramer_rule_agrees_with_sympy_solve(linear_case):
+    """The constants by Cramer's rule (bessel._cramer) are sp.solve's, after factor (srepr)."""
+    from pendulab.analyses.bessel import _cramer
+    _, _, _, sol = linear_case
+    z0 = S.z0
+    eqs = [sol.general_z.subs(S.z, z0) - S.theta_0, sol.dtheta_dz.subs(S.z, z0)]
+    by_solve = sp.solve(eqs, [S.A, S.B], dict=True)[0]
+    by_cramer = _cramer(eqs, [S.A, S.B])
+    assert set(by_cramer) == set(by_solve)
+    for key in by_solve:
+        assert sp.srepr(sp.factor(by_cramer[key])) == sp.srepr(sp.factor(by_solve[key]))
+    with pytest.raises(InputError, match="determinant 0"):
+        _cramer([S.A + S.B - 1, 2 * S.A + 2 * S.B], [S.A, S.B])
