@@ -370,9 +370,12 @@ def b_zero_length(solution, length, values, k=None, *, dps=30):
     roots = sp.solve(sp.Eq(z0_of_L0, jsym), S.L0)
     if len(roots) != 1:
         raise InputError(f"cannot solve z0 = {z0} for L0 uniquely (solutions: {roots})")
+    known = []  # j_{2,1} .. j_{2,n} computed so far (each zero is the same whatever n is)
     with mpmath.workdps(dps + 10):
         def zeros(n):  # j_{2,1} .. j_{2,n}, certified, at the working precision dps + 10
-            return [mpmath.mpf(x) for x in bessel_zeros(2, n, dps + 10).strings]
+            if len(known) < n:
+                known[:] = [mpmath.mpf(x) for x in bessel_zeros(2, n, dps + 10).strings]
+            return known[:n]
         if k is None:
             current = float(sp.lambdify((), substitute(z0, values), "mpmath")())
             # McMahon's leading term j_{2,k} ~ (k + 1/2 + 1/4) pi brackets the index; pick the nearest.
