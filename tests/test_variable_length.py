@@ -246,3 +246,15 @@ def test_cramer_rule_agrees_with_sympy_solve(linear_case):
         assert sp.srepr(sp.factor(by_cramer[key])) == sp.srepr(sp.factor(by_solve[key]))
     with pytest.raises(InputError, match="determinant 0"):
         _cramer([S.A + S.B - 1, 2 * S.A + 2 * S.B], [S.A, S.B])
+
+
+@pytest.mark.parametrize("mass", ["m", "2", "3/2", "m + M"])
+def test_lagrangian_is_trigsimps(mass):
+    """VariableLength.lagrangian (sin^2 = 1 - cos^2 put in) is what trigsimp gives (srepr), and
+    it is T - V: the difference simplifies to 0."""
+    system = VariableLength(mass=parse(mass))
+    raw = sp.expand(system.kinetic_energy - system.potential_energy)
+    by_trigsimp = sp.expand(sp.trigsimp(raw))
+    assert sp.srepr(system.lagrangian) == sp.srepr(by_trigsimp)
+    assert sp.simplify(system.lagrangian - raw) == 0
+    assert not system.lagrangian.has(sp.sin(th) ** 2)
