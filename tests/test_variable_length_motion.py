@@ -493,3 +493,17 @@ def test_figures_are_byte_identical_across_interpreters(tmp_path):
                         str(tmp_path / seed)], check=True, env=env, capture_output=True, timeout=300)
     for f in sorted((tmp_path / "1" / "vl").iterdir()):
         assert f.read_bytes() == (tmp_path / "2" / "vl" / f.name).read_bytes(), f.name
+
+
+def test_amplitude_exponent_by_implicit_differentiation_is_the_solved_one(growing):
+    """amplitude_exponent differentiates E/omega = C implicitly; solving it for the amplitude
+    (sp.solve, the route it replaced) and differentiating log a gives the same exponent."""
+    amp, const = sp.Symbol("a_theta", positive=True), sp.Symbol("C_inv", positive=True)
+    th, ell = growing.system.coordinate, S.L(S.t)
+    v = sp.sympify(growing.system.potential_energy).subs(ell, S.Lvar).subs(th, amp)
+    energy = sp.series(v - v.subs(amp, 0), amp, 0, 3).removeO()
+    omega = sp.sqrt(S.g / S.Lvar)  # frozen L: the linear equation L theta'' + g theta = 0
+    sols = [s for s in sp.solve(sp.Eq(energy / omega, const), amp) if s.is_positive is not False]
+    assert len(sols) == 1
+    solved = sp.simplify(S.Lvar * sp.diff(sp.log(sols[0]), S.Lvar))
+    assert vm.amplitude_exponent(growing.system, growing.eqs) == solved == sp.Rational(-3, 4)

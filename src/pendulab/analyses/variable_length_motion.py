@@ -400,12 +400,14 @@ def amplitude_exponent(system, equations):
     With the length frozen at L (L' = L'' = 0), the linear equation
     (equations stage, 002 eq. 4) reads lead * theta'' + restoring * theta = 0,
     so omega^2 = restoring/lead; the small-oscillation energy of amplitude a
-    is V(a) - V(0) of the system's potential energy to second order in a.
-    Solving E/omega = C for a gives a as a power of L; the exponent is
-    L d(log a)/dL, simplified.  Returns a SymPy Rational (for the string: -3/4).
+    is V(a) - V(0) of the system's potential energy to second order in a
+    (Taylor: the first two a-derivatives at a = 0).  E/omega = C fixes a as a
+    function of L; by implicit differentiation of I(a, L) = E/omega,
+    da/dL = -I_L/I_a, and the exponent is L (da/dL)/a = -L I_L/(a I_a),
+    simplified (no equation is solved for a).  Returns a SymPy Rational (for
+    the string: -3/4); an InputError when it depends on a (not a power law).
     """
     amp = sp.Symbol("a_theta", positive=True)
-    const = sp.Symbol("C_inv", positive=True)
     th = system.coordinate
     ell = S.L(S.t)
     frozen = {ell.diff(S.t, 2): 0, ell.diff(S.t): 0}
@@ -415,11 +417,13 @@ def amplitude_exponent(system, equations):
     omega = sp.sqrt(sp.simplify(restoring / lead))
     v = sp.sympify(system.potential_energy).subs(ell, S.Lvar)
     v_amp = v.subs(th, amp)
-    energy = sp.series(v_amp - v_amp.subs(amp, 0), amp, 0, 3).removeO()
-    sols = [s for s in sp.solve(sp.Eq(energy / omega, const), amp) if s.is_positive is not False]
-    if len(sols) != 1:
-        raise InputError(f"E/omega = const does not give one amplitude (got {sols})")
-    exponent = sp.simplify(S.Lvar * sp.diff(sp.log(sols[0]), S.Lvar))
+    first = sp.diff(v_amp, amp)
+    energy = first.subs(amp, 0) * amp + sp.diff(first, amp).subs(amp, 0) * amp**2 / 2
+    invariant = energy / omega
+    by_amp = sp.diff(invariant, amp)
+    if by_amp == 0:
+        raise InputError(f"E/omega = {invariant} does not depend on the amplitude")
+    exponent = sp.simplify(-S.Lvar * sp.diff(invariant, S.Lvar) / (amp * by_amp))
     if exponent.free_symbols:
         raise InputError(f"the amplitude is not a power of L (d log a / d log L = {exponent})")
     return exponent
