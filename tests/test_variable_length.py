@@ -258,3 +258,23 @@ def test_lagrangian_is_trigsimps(mass):
     assert sp.srepr(system.lagrangian) == sp.srepr(by_trigsimp)
     assert sp.simplify(system.lagrangian - raw) == 0
     assert not system.lagrangian.has(sp.sin(th) ** 2)
+
+
+def test_newton_projection_by_repeated_diff_is_diff_twice():
+    """equations.newton_projection differentiates the velocity again; diff(t, 2) of the
+    position gives the same projection (srepr)."""
+    from pendulab.equations import newton_projection
+    x, y = ell * sp.sin(th), ell * sp.cos(th)
+    projected = sp.expand(x.diff(t, 2) * sp.cos(th) - y.diff(t, 2) * sp.sin(th) + g * sp.sin(th))
+    direct = sp.expand(projected.subs(sp.sin(th) ** 2, 1 - sp.cos(th) ** 2))
+    assert sp.srepr(newton_projection()) == sp.srepr(direct)
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 5])
+def test_cross_product_constant_is_sympys_limit(n):
+    """cross_product takes the leading term at 0+ of the constant z (J_n Y_n+1 - J_n+1 Y_n);
+    sp.limit gives the same (srepr), -2/pi."""
+    z = S.z
+    cross = sp.besselj(n, z) * sp.bessely(n + 1, z) - sp.besselj(n + 1, z) * sp.bessely(n, z)
+    limit = sp.limit(z * cross, z, 0, "+")
+    assert sp.srepr(cross_product(n) * z) == sp.srepr(limit) == sp.srepr(-2 / sp.pi)

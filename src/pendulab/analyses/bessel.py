@@ -92,13 +92,17 @@ def cross_product(n):
     """Derive J_n Y_{n+1} - J_{n+1} Y_n in closed form (002 "Afirmação", "Obs. 2").
 
     Abel's theorem: z times the cross product has zero derivative (checked by
-    simplification), so it equals its limit at z -> 0, which SymPy computes
-    from the series of J and Y.  Returns the closed form, a function of z.
+    simplification), so it equals its limit at z -> 0: the leading term of its
+    expansion at 0+, which SymPy forms from the series of J and Y (what
+    ``sp.limit`` does; the limit itself decides if that term is not a
+    constant).  Returns the closed form, a function of z.
     """
     cross = sp.besselj(n, _z) * sp.bessely(n + 1, _z) - sp.besselj(n + 1, _z) * sp.bessely(n, _z)
     if not is_zero(sp.diff(_z * cross, _z)):
         raise InputError(f"could not show that z*(J_{n} Y_{n+1} - J_{n+1} Y_{n}) is constant")
-    constant = sp.limit(_z * cross, _z, 0, "+")
+    constant = (_z * cross).as_leading_term(_z, cdir=1)
+    if constant.has(_z) or not constant.is_finite:
+        constant = sp.limit(_z * cross, _z, 0, "+")
     return constant / _z
 
 
