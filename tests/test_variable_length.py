@@ -194,3 +194,87 @@ def test_amplitude_constant_C_when_z0_is_a_zero_of_J2(linear_case):
         Cv = mpmath.pi * L0v * mpmath.sqrt(gv) * mpmath.bessely(2, j21) / vv
         theta0_back = -Cv / mpmath.sqrt(L0v) * mpmath.besselj(1, 2 / vv * mpmath.sqrt(gv * L0v))
         assert abs(theta0_back - 1) < mpmath.mpf("1e-25")
+
+
+def test_chain_rule_derivatives_are_the_direct_ones(linear_case):
+    """The closed form's fast residual route (bessel.chain_derivatives: F'(z) z', F'' z'^2 + F' z'')
+    gives the derivatives SymPy forms by differentiating F(z(L)) and F(z(t)) directly."""
+    from pendulab.analyses.bessel import _fast_zero, chain_derivatives
+    _, _, _, sol = linear_case
+    for var, inner in ((Lv, sol.z_of_L), (t, sol.z_of_L.subs(Lv, L0 + v0 * t))):
+        direct = sol.general_z.subs(S.z, inner)
+        chained = [e.subs(S.z, inner) for e in chain_derivatives(sol.general_z, inner, var)]
+        for n in range(3):
+            assert _fast_zero(chained[n] - direct.diff(var, n))
+        # and the test can fail: the first derivative is not the second
+        assert not _fast_zero(chained[1] - direct.diff(var, 2))
+
+
+def test_residuals_are_proved_by_the_fast_route(linear_case, monkeypatch):
+    """Both residuals (L-form and t-form) are shown to be 0 without SymPy's simplify."""
+    from pendulab.analyses import bessel
+
+    def refuse(expr):
+        raise AssertionError("the fast route did not prove the residual")
+    monkeypatch.setattr(bessel, "_simplified_residual", refuse)
+    _, _, form, _ = linear_case
+    for length in (L0 + v0 * t, L0 - v0 * t, parse("3/2 + t/7")):
+        system = VariableLength(length=length)
+        sol = closed_form(length_form(derive(system)), system.length)
+        assert sol.residuals == (0, 0)
+
+
+def test_a_wrong_solution_leaves_a_residual(linear_case):
+    """The residual checks can fail: with the order p = 2 in place of 1 (theta = A z^-1 J2(z) + ...),
+    neither the L-form nor the t-form residual is 0."""
+    import dataclasses
+    _, _, form, _ = linear_case
+    sol = closed_form(dataclasses.replace(form, p=sp.Integer(2)), L0 + v0 * t)
+    assert sol.residual_L != 0 and sol.residual_t != 0
+
+
+def test_cramer_rule_agrees_with_sympy_solve(linear_case):
+    """The constants by Cramer's rule (bessel._cramer) are sp.solve's, after factor (srepr)."""
+    from pendulab.analyses.bessel import _cramer
+    _, _, _, sol = linear_case
+    z0 = S.z0
+    eqs = [sol.general_z.subs(S.z, z0) - S.theta_0, sol.dtheta_dz.subs(S.z, z0)]
+    by_solve = sp.solve(eqs, [S.A, S.B], dict=True)[0]
+    by_cramer = _cramer(eqs, [S.A, S.B])
+    assert set(by_cramer) == set(by_solve)
+    for key in by_solve:
+        assert sp.srepr(sp.factor(by_cramer[key])) == sp.srepr(sp.factor(by_solve[key]))
+    with pytest.raises(InputError, match="determinant 0"):
+        _cramer([S.A + S.B - 1, 2 * S.A + 2 * S.B], [S.A, S.B])
+
+
+@pytest.mark.parametrize("mass", ["m", "2", "3/2", "m + M"])
+def test_lagrangian_is_trigsimps(mass):
+    """VariableLength.lagrangian (sin^2 = 1 - cos^2 put in) is what trigsimp gives (srepr), and
+    it is T - V: the difference simplifies to 0."""
+    system = VariableLength(mass=parse(mass))
+    raw = sp.expand(system.kinetic_energy - system.potential_energy)
+    by_trigsimp = sp.expand(sp.trigsimp(raw))
+    assert sp.srepr(system.lagrangian) == sp.srepr(by_trigsimp)
+    assert sp.simplify(system.lagrangian - raw) == 0
+    assert not system.lagrangian.has(sp.sin(th) ** 2)
+
+
+def test_newton_projection_by_repeated_diff_is_diff_twice():
+    """equations.newton_projection differentiates the velocity again; diff(t, 2) of the
+    position gives the same projection (srepr)."""
+    from pendulab.equations import newton_projection
+    x, y = ell * sp.sin(th), ell * sp.cos(th)
+    projected = sp.expand(x.diff(t, 2) * sp.cos(th) - y.diff(t, 2) * sp.sin(th) + g * sp.sin(th))
+    direct = sp.expand(projected.subs(sp.sin(th) ** 2, 1 - sp.cos(th) ** 2))
+    assert sp.srepr(newton_projection()) == sp.srepr(direct)
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 5])
+def test_cross_product_constant_is_sympys_limit(n):
+    """cross_product takes the leading term at 0+ of the constant z (J_n Y_n+1 - J_n+1 Y_n);
+    sp.limit gives the same (srepr), -2/pi."""
+    z = S.z
+    cross = sp.besselj(n, z) * sp.bessely(n + 1, z) - sp.besselj(n + 1, z) * sp.bessely(n, z)
+    limit = sp.limit(z * cross, z, 0, "+")
+    assert sp.srepr(cross_product(n) * z) == sp.srepr(limit) == sp.srepr(-2 / sp.pi)

@@ -493,3 +493,55 @@ def test_figures_are_byte_identical_across_interpreters(tmp_path):
                         str(tmp_path / seed)], check=True, env=env, capture_output=True, timeout=300)
     for f in sorted((tmp_path / "1" / "vl").iterdir()):
         assert f.read_bytes() == (tmp_path / "2" / "vl" / f.name).read_bytes(), f.name
+
+
+def test_amplitude_exponent_by_implicit_differentiation_is_the_solved_one(growing):
+    """amplitude_exponent differentiates E/omega = C implicitly; solving it for the amplitude
+    (sp.solve, the route it replaced) and differentiating log a gives the same exponent."""
+    amp, const = sp.Symbol("a_theta", positive=True), sp.Symbol("C_inv", positive=True)
+    th, ell = growing.system.coordinate, S.L(S.t)
+    v = sp.sympify(growing.system.potential_energy).subs(ell, S.Lvar).subs(th, amp)
+    energy = sp.series(v - v.subs(amp, 0), amp, 0, 3).removeO()
+    omega = sp.sqrt(S.g / S.Lvar)  # frozen L: the linear equation L theta'' + g theta = 0
+    sols = [s for s in sp.solve(sp.Eq(energy / omega, const), amp) if s.is_positive is not False]
+    assert len(sols) == 1
+    solved = sp.simplify(S.Lvar * sp.diff(sp.log(sols[0]), S.Lvar))
+    assert vm.amplitude_exponent(growing.system, growing.eqs) == solved == sp.Rational(-3, 4)
+
+
+@pytest.mark.parametrize("g, v0", [(9.81, 0.01), (9.81, -0.01), (1.0, 0.3), (9.80665, 0.0123456789),
+                                   (55.06588754665608, 1.855402581384097), (0.5, 1e-5)])
+def test_l0_roots_are_sympy_solves(g, v0):
+    """b_zero_length's L0 from z0 = c sqrt(L0) = j (vm._l0_roots, no solver) is sp.solve's,
+    Float for Float (srepr), and none when c < 0; another z0 goes to sp.solve itself."""
+    j = sp.Symbol("j", positive=True)
+    z0 = vm.substitute(2 * sp.sqrt(S.g) * sp.sqrt(S.L0) / S.v0, {"g": g, "v0": v0})
+    assert sp.srepr(vm._l0_roots(z0, j)) == sp.srepr(sp.solve(sp.Eq(z0, j), S.L0))
+    other = vm.substitute(2 * sp.sqrt(S.g) * sp.sqrt(S.L0 + 1) / S.v0, {"g": g, "v0": abs(v0)})
+    assert sp.srepr(vm._l0_roots(other, j)) == sp.srepr(sp.solve(sp.Eq(other, j), S.L0))
+
+
+def test_constants_in_one_lambdify_are_the_separate_ones(growing):
+    """closed_form_constants evaluates A and B by one lambdify of both; each lambdified alone
+    (the former route) gives the same mpmath numbers, digit for digit."""
+    import mpmath
+    values, th0 = {"g": G, "L0": 1.0, "v0": 0.01}, 0.05
+    _, a, b = vm.closed_form_constants(growing.cf, growing.length, values, th0)
+    with mpmath.workdps(40):
+        z0 = vm.substitute(growing.cf.z_of_L.subs(S.Lvar, growing.length.subs(S.t, 0)), values)
+        z0 = sp.lambdify((), z0, "mpmath")()
+        alone = []
+        for key in (S.A, S.B):
+            c = vm.substitute(growing.cf.constants[key].subs(S.theta_0, sp.Float(th0, 17)), values)
+            alone.append(+sp.lambdify(growing.cf.z0_symbol, c, "mpmath")(z0))
+    assert (a, b) == tuple(+x for x in alone) and a != b
+
+
+def test_length_function_is_formed_once_per_length_and_numbers(growing):
+    f1, e1 = vm.length_function(growing.length, {"g": G, "L0": 1.0, "v0": 0.01})
+    f2, e2 = vm.length_function(growing.length, {"L0": 1.0, "v0": 0.01, "g": 2.0})  # g: not in L
+    f3, e3 = vm.length_function(growing.length, {"g": G, "L0": 2.0, "v0": 0.01})
+    assert f1 is f2 and e1 is e2
+    assert f3 is not f1 and f3(0.0) == 2.0 and f1(10.0) == 1.1
+    with pytest.raises(InputError, match="needs numbers for v0"):
+        vm.length_function(growing.length, {"L0": 1.0})

@@ -92,14 +92,64 @@ def cross_product(n):
     """Derive J_n Y_{n+1} - J_{n+1} Y_n in closed form (002 "Afirmação", "Obs. 2").
 
     Abel's theorem: z times the cross product has zero derivative (checked by
-    simplification), so it equals its limit at z -> 0, which SymPy computes
-    from the series of J and Y.  Returns the closed form, a function of z.
+    simplification), so it equals its limit at z -> 0: the leading term of its
+    expansion at 0+, which SymPy forms from the series of J and Y (what
+    ``sp.limit`` does; the limit itself decides if that term is not a
+    constant).  Returns the closed form, a function of z.
     """
     cross = sp.besselj(n, _z) * sp.bessely(n + 1, _z) - sp.besselj(n + 1, _z) * sp.bessely(n, _z)
     if not is_zero(sp.diff(_z * cross, _z)):
         raise InputError(f"could not show that z*(J_{n} Y_{n+1} - J_{n+1} Y_{n}) is constant")
-    constant = sp.limit(_z * cross, _z, 0, "+")
+    constant = (_z * cross).as_leading_term(_z, cdir=1)
+    if constant.has(_z) or not constant.is_finite:
+        constant = sp.limit(_z * cross, _z, 0, "+")
     return constant / _z
+
+
+def chain_derivatives(outer, inner, var):
+    """(F, dF/dvar, d^2F/dvar^2) of F = ``outer`` (an expression in z) composed with z = ``inner``
+    (an expression in ``var``) by the chain rule, F' z' and F'' z'^2 + F' z'', with F, F', F''
+    left as functions of z (so the Bessel functions keep the argument z)."""
+    f1 = outer.diff(_z)
+    f2 = f1.diff(_z)
+    i1 = inner.diff(var)
+    i2 = i1.diff(var)
+    return outer, f1 * i1, f2 * i1**2 + f1 * i2
+
+
+def _cramer(eqs, unknowns):
+    """{unknown: value} solving the linear equations ``eqs`` (each = 0) by Cramer's rule (002,
+    "Pela regra de Cramer"): the coefficient matrix's determinant with the right-hand side in
+    the unknown's column, over its determinant (an InputError when that is 0)."""
+    matrix, rhs = sp.linear_eq_to_matrix(eqs, unknowns)
+    det = matrix.det()
+    if det == 0:
+        raise InputError("the initial conditions do not fix the constants (determinant 0)")
+    out = {}
+    for i, key in enumerate(unknowns):
+        column = matrix.copy()
+        column[:, i] = rhs
+        out[key] = column.det() / det
+    return out
+
+
+def _inverse_power(z_of_l, k, beta):
+    """L as a function of z for z = k L^beta: (z/k)^(1/beta), or None unless it is checked to
+    give back L from z_of_l (SymPy's automatic simplification; L, z positive)."""
+    l_of_z = (_z / k) ** (1 / beta)
+    return l_of_z if l_of_z.subs(_z, z_of_l) == Lvar else None
+
+
+def _inverse_linear(length, l_of_z, z_of_t):
+    """t as a function of z for L(t) = c0 + c1 t and L = ``l_of_z``: (l_of_z - c0)/c1, or None
+    (no such inverse, or it does not give back t from ``z_of_t``)."""
+    if l_of_z is None or not length.is_polynomial(S.t):
+        return None
+    poly = sp.Poly(length, S.t)
+    if poly.degree() != 1:
+        return None
+    t_of_z = (l_of_z - poly.coeff_monomial(1)) / poly.coeff_monomial(S.t)
+    return t_of_z if t_of_z.subs(_z, z_of_t) == S.t else None
 
 
 @dataclass
@@ -130,18 +180,22 @@ class BesselSolution:
         self.power = power
         self.general_z = (S.A * _z**power * sp.besselj(p, _z)
                           + S.B * _z**power * sp.bessely(p, _z))
-        theta_L = self.general_z.subs(_z, self.z_of_L)
         # Substitution check in the L-form (002 eq. 7 corrected) ...
         eq = f.euler_form
         thL = S.theta(Lvar)
-        residual_L = eq.subs({thL.diff(Lvar, 2): theta_L.diff(Lvar, 2),
-                              thL.diff(Lvar): theta_L.diff(Lvar)}).subs(thL, theta_L)
-        self.residual_L = _simplified_residual(residual_L)
+
+        def in_l(theta, d1, d2):
+            return eq.subs({thL.diff(Lvar, 2): d2, thL.diff(Lvar): d1}).subs(thL, theta)
+
+        l_of_z = _inverse_power(self.z_of_L, k, beta)
+        self.residual_L = self._residual(in_l, Lvar, self.z_of_L, l_of_z)
+
         # ... and in t, in the linear equation (002 eq. 4) with L(t) written out.
-        theta_t = theta_L.subs(Lvar, self.length)
-        lin = (self.length * theta_t.diff(S.t, 2) + 2 * self.length.diff(S.t) * theta_t.diff(S.t)
-               + S.g * theta_t)
-        self.residual_t = _simplified_residual(lin)
+        def in_t(theta, d1, d2):
+            return self.length * d2 + 2 * self.length.diff(S.t) * d1 + S.g * theta
+
+        z_t = self.z_of_L.subs(Lvar, self.length)
+        self.residual_t = self._residual(in_t, S.t, z_t, _inverse_linear(self.length, l_of_z, z_t))
         # Initial conditions theta(0) = theta_0, theta'(0) = 0 (002).  dz/dt != 0, so
         # theta'(0) = 0 <=> dtheta/dz = 0 at z0; the derivative rule turns
         # d/dz[z^-p C_p] into -z^-p C_{p+1} once it has been checked.
@@ -157,7 +211,7 @@ class BesselSolution:
         self.dtheta_dz = dtheta
         z0s = S.z0
         eqs = [self.general_z.subs(_z, z0s) - S.theta_0, dtheta.subs(_z, z0s)]
-        sol = sp.solve(eqs, [S.A, S.B], dict=True)[0]
+        sol = _cramer(eqs, [S.A, S.B])
         self.cramer = {key: sp.factor(val) for key, val in sol.items()}
         cross = cross_product(int(p))  # J_p Y_{p+1} - J_{p+1} Y_p as a function of z
         jy = sp.besselj(p, z0s) * sp.bessely(p + 1, z0s) - sp.besselj(p + 1, z0s) * sp.bessely(p, z0s)
@@ -175,6 +229,25 @@ class BesselSolution:
         self.cross = cross
         self._done = True
         return self
+
+    def _residual(self, build, var, z_of_var, var_of_z):
+        """0 when theta = general_z(z(var)) is shown to solve ``build(theta, theta', theta'')`` = 0
+        identically, else the simplified residual (what is reported).
+
+        Fast route: the derivatives by the chain rule, d theta/d var = F'(z) z', d^2 theta/d var^2
+        = F''(z) z'^2 + F'(z) z'' (F = general_z, z = ``z_of_var``), and var written back as
+        ``var_of_z`` (checked to undo z: var_of_z(z(var)) = var, so the residual vanishes for
+        every var exactly when it vanishes for every z); the residual is then a rational function
+        of z and the Bessel functions of z, and :func:`_fast_zero` shows it is 0.  Where the
+        inverse is not known or the fast proof does not succeed, the residual is formed by
+        differentiating general_z(z(var)) itself and :func:`_simplified_residual` decides.
+        """
+        if var_of_z is not None:
+            in_z = build(*chain_derivatives(self.general_z, z_of_var, var)).subs(var, var_of_z)
+            if not in_z.has(var) and _fast_zero(in_z):
+                return sp.S.Zero
+        theta = self.general_z.subs(_z, z_of_var)
+        return _simplified_residual(build(theta, theta.diff(var), theta.diff(var, 2)))
 
     @property
     def solution(self):

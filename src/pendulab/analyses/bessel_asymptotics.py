@@ -37,7 +37,8 @@ TERMS = 10
 
 @lru_cache(maxsize=None)
 def hankel_coefficient(k):
-    """a_k(nu) of DLMF 10.17.1 as an exact polynomial in mu = 4 nu^2."""
+    """a_k(nu) of DLMF 10.17.1 as an exact polynomial in mu = 4 nu^2 (formed once per k: the
+    series reversion of :func:`mcmahon_coefficients` asks for each about 500 times)."""
     num = fmpq_poly([1])
     fact = 1
     for j in range(1, k + 1):

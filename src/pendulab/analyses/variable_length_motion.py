@@ -118,13 +118,25 @@ def substitute(expr, values):
     return expr.subs(sub)
 
 
+#: length_function's results by (L(t), the numbers of its symbols): a product asks for the
+#: same L(t) about ten times (each integration, its zero, the fits), each lambdify costs ms
+_LENGTH_FUNCTIONS = {}
+
+
 def length_function(length, values):
     """(L(t) as a float function of t, the numeric SymPy expression) with ``values`` substituted."""
-    expr = substitute(length, values)
-    rest = expr.free_symbols - {S.t}
-    if rest:
-        raise InputError(f"L(t) = {length} needs numbers for {', '.join(sorted(s.name for s in rest))}")
-    return sp.lambdify(S.t, expr, "math"), expr
+    length = sp.sympify(length)
+    key = (length, repr(sorted((s.name, values[s.name]) for s in length.free_symbols
+                               if s.name in values)))
+    if key not in _LENGTH_FUNCTIONS:
+        expr = substitute(length, values)
+        rest = expr.free_symbols - {S.t}
+        if rest:
+            raise InputError(f"L(t) = {length} needs numbers for {', '.join(sorted(s.name for s in rest))}")
+        if len(_LENGTH_FUNCTIONS) >= 64:
+            _LENGTH_FUNCTIONS.pop(next(iter(_LENGTH_FUNCTIONS)))
+        _LENGTH_FUNCTIONS[key] = (sp.lambdify(S.t, expr, "math"), expr)
+    return _LENGTH_FUNCTIONS[key]
 
 
 def length_zero_time(length, values, horizon=None):
@@ -330,10 +342,8 @@ def closed_form_constants(solution, length, values, theta_0, *, dps=30, z0=None)
     th0 = sp.Float(_finite("theta_0", theta_0), 17)
     with mpmath.workdps(dps + 10):
         z0v = sp.lambdify((), z0_expr, "mpmath")() if z0 is None else mpmath.mpf(z0)
-        out = [z0v]
-        for key in (S.A, S.B):
-            c = substitute(solution.constants[key].subs(S.theta_0, th0), values)
-            out.append(sp.lambdify(solution.z0_symbol, c, "mpmath")(z0v))
+        both = [substitute(solution.constants[key].subs(S.theta_0, th0), values) for key in (S.A, S.B)]
+        out = [z0v] + list(sp.lambdify(solution.z0_symbol, both, "mpmath")(z0v))
     return tuple(+x for x in out)
 
 
@@ -349,6 +359,25 @@ def relative_agreement(numeric, reference):
 # ---------------------------------------------------------------------------
 # z0 at a zero of J2: B = 0 (002, "Conseqüência")
 # ---------------------------------------------------------------------------
+
+def _l0_roots(z0_of_l0, jsym):
+    """The solutions L0 of z0(L0) = j (z0 with numbers in, a Float coefficient) as
+    ``sp.solve(sp.Eq(z0_of_l0, jsym), L0)`` gives them.
+
+    sp.solve recasts the Floats as rationals (``nsimplify(..., rational=True)``), solves
+    exactly and makes the solution's numbers Floats again (``nfloat``).  For z0 = c sqrt(L0),
+    the z of the closed form at L(0) = L0, the exact solution is L0 = j^2/c^2 (none for
+    c < 0, as j > 0): formed here the same way, without the solver (tests compare the
+    two); any other z0 goes to sp.solve.
+    """
+    coeff, rest = z0_of_l0.as_coeff_Mul()
+    if not (coeff.is_Float and rest == sp.sqrt(S.L0)):
+        return sp.solve(sp.Eq(z0_of_l0, jsym), S.L0)
+    if not coeff > 0:
+        return []
+    c = sp.nsimplify(coeff, rational=True)
+    return [sp.nfloat(jsym**2 / c**2, exponent=False)]
+
 
 def b_zero_length(solution, length, values, k=None, *, dps=30):
     """The initial length L0 that puts z0 at the k-th zero of J2, so that B = 0.
@@ -367,12 +396,15 @@ def b_zero_length(solution, length, values, k=None, *, dps=30):
     others = {n: v for n, v in values.items() if n != "L0"}
     z0_of_L0 = substitute(z0, others)
     jsym = sp.Symbol("j", positive=True)
-    roots = sp.solve(sp.Eq(z0_of_L0, jsym), S.L0)
+    roots = _l0_roots(z0_of_L0, jsym)
     if len(roots) != 1:
         raise InputError(f"cannot solve z0 = {z0} for L0 uniquely (solutions: {roots})")
+    known = []  # j_{2,1} .. j_{2,n} computed so far (each zero is the same whatever n is)
     with mpmath.workdps(dps + 10):
         def zeros(n):  # j_{2,1} .. j_{2,n}, certified, at the working precision dps + 10
-            return [mpmath.mpf(x) for x in bessel_zeros(2, n, dps + 10).strings]
+            if len(known) < n:
+                known[:] = [mpmath.mpf(x) for x in bessel_zeros(2, n, dps + 10).strings]
+            return known[:n]
         if k is None:
             current = float(sp.lambdify((), substitute(z0, values), "mpmath")())
             # McMahon's leading term j_{2,k} ~ (k + 1/2 + 1/4) pi brackets the index; pick the nearest.
@@ -397,12 +429,14 @@ def amplitude_exponent(system, equations):
     With the length frozen at L (L' = L'' = 0), the linear equation
     (equations stage, 002 eq. 4) reads lead * theta'' + restoring * theta = 0,
     so omega^2 = restoring/lead; the small-oscillation energy of amplitude a
-    is V(a) - V(0) of the system's potential energy to second order in a.
-    Solving E/omega = C for a gives a as a power of L; the exponent is
-    L d(log a)/dL, simplified.  Returns a SymPy Rational (for the string: -3/4).
+    is V(a) - V(0) of the system's potential energy to second order in a
+    (Taylor: the first two a-derivatives at a = 0).  E/omega = C fixes a as a
+    function of L; by implicit differentiation of I(a, L) = E/omega,
+    da/dL = -I_L/I_a, and the exponent is L (da/dL)/a = -L I_L/(a I_a),
+    simplified (no equation is solved for a).  Returns a SymPy Rational (for
+    the string: -3/4); an InputError when it depends on a (not a power law).
     """
     amp = sp.Symbol("a_theta", positive=True)
-    const = sp.Symbol("C_inv", positive=True)
     th = system.coordinate
     ell = S.L(S.t)
     frozen = {ell.diff(S.t, 2): 0, ell.diff(S.t): 0}
@@ -412,11 +446,13 @@ def amplitude_exponent(system, equations):
     omega = sp.sqrt(sp.simplify(restoring / lead))
     v = sp.sympify(system.potential_energy).subs(ell, S.Lvar)
     v_amp = v.subs(th, amp)
-    energy = sp.series(v_amp - v_amp.subs(amp, 0), amp, 0, 3).removeO()
-    sols = [s for s in sp.solve(sp.Eq(energy / omega, const), amp) if s.is_positive is not False]
-    if len(sols) != 1:
-        raise InputError(f"E/omega = const does not give one amplitude (got {sols})")
-    exponent = sp.simplify(S.Lvar * sp.diff(sp.log(sols[0]), S.Lvar))
+    first = sp.diff(v_amp, amp)
+    energy = first.subs(amp, 0) * amp + sp.diff(first, amp).subs(amp, 0) * amp**2 / 2
+    invariant = energy / omega
+    by_amp = sp.diff(invariant, amp)
+    if by_amp == 0:
+        raise InputError(f"E/omega = {invariant} does not depend on the amplitude")
+    exponent = sp.simplify(-S.Lvar * sp.diff(invariant, S.Lvar) / (amp * by_amp))
     if exponent.free_symbols:
         raise InputError(f"the amplitude is not a power of L (d log a / d log L = {exponent})")
     return exponent
