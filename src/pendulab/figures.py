@@ -57,12 +57,20 @@ def save(fig, dpi=150):
     import io
     collecting = gc.isenabled()
     gc.disable()
+    # an axis with no label text: matplotlib would still place its (empty) label below or
+    # beside the tick labels, measuring them once more; nothing of it is drawn
+    unlabelled = [axis for ax in fig.axes for axis in (ax.xaxis, ax.yaxis)
+                  if axis._autolabelpos and not axis.label.get_text()]
     try:
+        for axis in unlabelled:
+            axis._autolabelpos = False
         buf = io.BytesIO()
         with _shared_font_subsets(), _DrawnTwice(fig, dpi) as both:
             fig.savefig(buf, format="pdf", metadata=PDF_METADATA)
         return {".png": both.png() if both.complete else png(fig, dpi), ".pdf": buf.getvalue()}
     finally:
+        for axis in unlabelled:
+            axis._autolabelpos = True
         if collecting:
             gc.enable()
 
@@ -103,11 +111,11 @@ def _png_bytes(buffer, dpi):
     """A PNG file of an Agg canvas' RGBA ``buffer`` (RGB when opaque), no text chunks."""
     import io
 
-    import numpy as np
     from PIL import Image
-    rgba = np.asarray(buffer)
-    image = Image.fromarray(np.ascontiguousarray(rgba[..., :3]) if (rgba[..., 3] == 255).all()
-                            else np.array(rgba))
+    height, width = buffer.shape[:2]
+    image = Image.frombuffer("RGBA", (width, height), buffer, "raw", "RGBA", 0, 1)
+    if image.getextrema()[3][0] == 255:  # opaque
+        image = image.convert("RGB")
     out = io.BytesIO()
     image.save(out, format="png", dpi=(dpi, dpi), compress_level=PNG_COMPRESS_LEVEL)
     return out.getvalue()
