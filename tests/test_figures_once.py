@@ -144,3 +144,24 @@ def test_saving_leaves_the_garbage_collector_as_it_was():
             gc.enable()
     finally:
         plt.close(fig)
+
+
+def test_figure_functions_run_with_the_collector_paused():
+    import gc
+
+    from pendulab.products import experiments, motion, stability
+
+    @figures.collector_paused
+    def inside(fail=False):
+        if fail:
+            raise ValueError("drawing failed")
+        return gc.isenabled()
+
+    assert gc.isenabled()
+    assert inside() is False and gc.isenabled()
+    with pytest.raises(ValueError):
+        inside(fail=True)
+    assert gc.isenabled()
+    for f in (experiments.figure_map, experiments.figure_fig5, experiments.figure_fig2,
+              motion.figure_theta, motion.figure_envelope, stability.figure_svg):
+        assert f.__wrapped__.__name__ == f.__name__  # each product figure is wrapped

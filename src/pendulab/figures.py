@@ -43,6 +43,29 @@ def pyplot(what):
     return matplotlib, plt
 
 
+def collector_paused(function):
+    """``function`` run with Python's cyclic garbage collector paused (as it was after).
+
+    A figure is tens of thousands of short-lived matplotlib objects (artists, transforms,
+    ticks); each automatic collection on the way walks every object of the process, SymPy's
+    and the build's too, and frees nothing of the figure, which lives until it is closed.
+    The figure functions of the products are wrapped in it (and :func:`save` pauses it too).
+    """
+    import functools
+    import gc
+
+    @functools.wraps(function)
+    def paused(*args, **kwargs):
+        collecting = gc.isenabled()
+        gc.disable()
+        try:
+            return function(*args, **kwargs)
+        finally:
+            if collecting:
+                gc.enable()
+    return paused
+
+
 def save(fig, dpi=150):
     """{".png": bytes, ".pdf": bytes} of ``fig`` (PNG at ``dpi``), no dates or versions inside.
 

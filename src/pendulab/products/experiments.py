@@ -20,6 +20,7 @@ of sin(), which differs between the C library and NumPy.
 """
 
 from pendulab.errors import InputError
+from pendulab.figures import collector_paused
 
 from pendulab.limits import option as _limited
 
@@ -333,6 +334,7 @@ def region_paths(limits):
     return path(*gen.filled(0.5, 1.5)), path(*gen.lines(0.5))
 
 
+@collector_paused
 def figure_map(m, limits, title, region=None):
     """2 x 2 panels (one per criterion): stable cells as open circles (as in the source), the
     Floquet region shaded, eq. 28 (solid) and exact (dashed) limits of a/l drawn over them.
@@ -389,6 +391,7 @@ def figure_map(m, limits, title, region=None):
             plt.close(fig)
 
 
+@collector_paused
 def figure_fig5(r):
     import numpy as np
 
@@ -422,6 +425,7 @@ def figure_fig5(r):
             plt.close(fig)
 
 
+@collector_paused
 def figure_fig2(r):
     matplotlib, plt = _matplotlib()
     with matplotlib.rc_context(RC):
