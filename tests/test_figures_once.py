@@ -1,7 +1,7 @@
 """pendulab.figures.save draws a figure once for its PDF and PNG (figures._DrawnTwice).
 
 The reference is matplotlib's own drawing of the same figure: ``savefig`` to PDF (the same
-bytes: the PDF's renderer gets the same calls) and ``figures.png``, a separate drawing on an
+bytes at the same zlib level: the PDF's renderer gets the same calls) and ``figures.png``, a separate drawing on an
 Agg canvas at the PNG's dpi.  The canvas drawn alongside the PDF has the PDF's coordinates
 scaled by dpi/72, so its lines and markers fall on the pixels of a drawing of its own (up to
 a pixel where a coordinate lies on a pixel's edge: the two roads round differently), and its
@@ -66,7 +66,8 @@ def test_lines_and_markers_on_the_pixels_of_a_drawing_of_their_own(dpi):
         saved = figures.save(fig, dpi=dpi)
         alone = figures.png(fig, dpi=dpi)
         buf = io.BytesIO()
-        fig.savefig(buf, format="pdf", metadata=figures.PDF_METADATA)
+        with matplotlib.rc_context({"pdf.compression": figures.PDF_COMPRESS_LEVEL}):
+            fig.savefig(buf, format="pdf", metadata=figures.PDF_METADATA)
     finally:
         plt.close(fig)
     assert saved[".pdf"] == buf.getvalue()
