@@ -166,3 +166,33 @@ def test_figure_functions_run_with_the_collector_paused():
     for f in (experiments.figure_map, experiments.figure_fig5, experiments.figure_fig2,
               motion.figure_theta, motion.figure_envelope, stability.figure_svg):
         assert f.__wrapped__.__name__ == f.__name__  # each product figure is wrapped
+
+
+def _map_inputs(shift, crits):
+    """A small map in figure_map's form: cells stable below a line that moves with ``shift``."""
+    a = np.linspace(0.0, 1.0, 7)
+    w = np.linspace(0.0, 1.0, 7)
+    fine = np.linspace(0.0, 1.0, 41)
+    maps = {c: (w[:, None] < (0.3 + shift + 0.1 * k) * a[None, :] + 0.1) for k, c in enumerate(crits)}
+    m = {"a_over_l": list(a), "w0_over_w": list(w), "maps": maps,
+         "counts": {c: int(v.sum()) for c, v in maps.items()}}
+    limits = {"w0_over_w": list(fine), "region_values": list(fine),
+              "region": (fine[:, None] < (0.5 + shift) * fine[None, :]).astype(float),
+              "curves": {"eq28": (list(0.4 * fine + shift), list(0.9 * fine + 0.05))}}
+    return m, limits, f"map {shift}\nsecond line"
+
+
+@pytest.mark.parametrize("crits", [["mean", "mean-abs", "bounded", "floquet"], ["bounded", "floquet", "mean"]])
+def test_map_figure_kept_for_the_next_map_draws_a_new_figures_bytes(crits):
+    from pendulab.products import experiments
+    shifts = [0.0, 0.2, 0.1]
+    fresh = []
+    for s in shifts:
+        experiments._MAP_FIGURES.clear()
+        fresh.append(experiments.figure_map(*_map_inputs(s, crits)))
+    experiments._MAP_FIGURES.clear()
+    kept = [experiments.figure_map(*_map_inputs(s, crits)) for s in shifts]
+    assert len(experiments._MAP_FIGURES) == 1
+    experiments._MAP_FIGURES.clear()
+    assert len({f[".png"] for f in fresh}) == len(shifts)  # the maps differ
+    assert kept == fresh
