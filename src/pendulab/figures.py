@@ -7,8 +7,9 @@ run (``pendulab build`` must reproduce generated/ byte for byte).
 * :func:`pyplot` - (matplotlib, matplotlib.pyplot) on the Agg backend, or a
   one-line :class:`~pendulab.errors.InputError` naming the product when
   matplotlib (the "figures" extra) is not installed;
-* :func:`save` - {".png": bytes, ".pdf": bytes} of a figure at ``dpi``;
+* :func:`save` - {".png": bytes, ".pdf": bytes} of a figure at ``dpi``, drawn once for both;
 * :func:`png` - the PNG alone (RGB when the figure is opaque);
+* :func:`collector_paused` - a figure function run with the garbage collector paused;
 * :func:`margins` - fixed margins in inches in place of ``tight_layout``;
 * :func:`unicode_expr`, :func:`power_of_ten` - labels in plain Unicode text
   (DejaVu Sans has the glyphs), which matplotlib draws without its mathtext
