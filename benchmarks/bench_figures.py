@@ -1,9 +1,10 @@
 """CPU time of the build's figures, ours against BASELINE, one command:
 
-    python benchmarks/bench_figures.py [--repeat N]
+    python benchmarks/bench_figures.py [--repeat N] [--baseline COMMIT]
 
 For each source tree (ours: the tree this script sits in; baseline: pendulab
-at commit BASELINE, extracted with ``git archive``) a fresh interpreter
+at commit BASELINE or ``--baseline``, extracted with ``git archive``; the
+rounds alternate between the two) a fresh interpreter
 builds the committed scenes' products one after another, as the build's
 workers do, with the figure functions wrapped to measure their CPU time
 (time.process_time): the maps of the experiments (figure_map, three
@@ -23,8 +24,9 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-#: main's commit before the figure work
-BASELINE = "4b84647"
+#: main's commit before the second round of figure work (one drawing for PDF and PNG, the
+#: garbage collector paused while saving, PNG zlib level 3); 4b84647 is the one before the first
+BASELINE = "fba1f7a"
 
 WORKER = r"""
 import functools, importlib, json, sys, time
@@ -90,9 +92,11 @@ def best(rounds):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--baseline", default=BASELINE, help=f"commit to compare with ({BASELINE})")
     args = parser.parse_args(argv)
+    baseline = args.baseline
     with tempfile.TemporaryDirectory() as tmp:
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", BASELINE, "src"],
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", baseline, "src"],
                                  check=True, capture_output=True).stdout
         subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
         old, new = [], []
@@ -101,7 +105,7 @@ def main(argv=None):
             new.append(run(ROOT / "src", ROOT / "derivations"))
     old, new = best(old), best(new)
     for part in ("first", "again"):
-        print(f"{part:>5} (CPU s)        baseline {BASELINE}     ours   ratio")
+        print(f"{part:>5} (CPU s)       baseline {baseline:>9}      ours   ratio")
         for k in old[part]:
             print(f"  {k:<22} {old[part][k]:9.3f} {new[part][k]:9.3f} {old[part][k] / new[part][k]:6.2f}x")
         to, tn = sum(old[part].values()), sum(new[part].values())

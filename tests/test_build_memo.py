@@ -4,8 +4,8 @@
   batched companion eigenvalues, brentq polish on demand) against the scalar
   function it replaces, _branch_theta1, point by point;
 * the first-band memo of pendulab.analyses.floquet against a fresh computation;
-* the PDF font subsets shared within a process (pendulab.figures.save) against
-  matplotlib's own savefig.
+* the PDF font subsets shared within a process (pendulab.figures.save), and each
+  subset against matplotlib's own (fontTools with matplotlib's options).
 The reproduction of generated/ itself is tests/test_build.py's.
 """
 
@@ -96,7 +96,7 @@ def test_first_band_memo_gives_the_fresh_band():
     assert floquet.stability_limits(0.35, 4 / 3, method="mpmath") == rod
 
 
-def test_shared_pdf_font_subsets_give_matplotlibs_bytes():
+def test_shared_pdf_font_subsets_are_made_once_and_hold_the_common_glyphs():
     pytest.importorskip("matplotlib")
     from matplotlib.backends import _backend_pdf_ps
 
@@ -113,23 +113,47 @@ def test_shared_pdf_font_subsets_give_matplotlibs_bytes():
             first = figures.save(fig)[".pdf"]
             made = len(figures._SUBSETS)
             second = figures.save(fig)[".pdf"]      # every subset from the memo
-            # matplotlib's own subsets (fontTools each time) of the same glyphs: those the
-            # figure draws and figures.COMMON_CHARACTERS'
-            plain = io.BytesIO()
-            _backend_pdf_ps.get_glyphs_subset = \
-                lambda fontfile, glyphs: real(fontfile, frozenset(glyphs) | figures._common_glyphs(fontfile))
-            try:
-                fig.savefig(plain, format="pdf", metadata=figures.PDF_METADATA)
-            finally:
-                _backend_pdf_ps.get_glyphs_subset = real
             unshared = io.BytesIO()
             fig.savefig(unshared, format="pdf", metadata=figures.PDF_METADATA)
         finally:
             plt.close(fig)
     assert made >= 2 and len(figures._SUBSETS) == made
-    assert first == second == plain.getvalue()
+    assert first == second
     assert unshared.getvalue() != first  # the common glyphs are in the shared subsets only
     assert _backend_pdf_ps.get_glyphs_subset is real  # matplotlib's function is back in place
+
+
+def test_lean_font_subset_is_matplotlibs_without_the_shaping_tables():
+    """figures._lean_subset against matplotlib's own subset (fontTools with matplotlib's
+    options) of the same glyphs: the same glyphs by name, outlines and advance widths, the
+    same character map; only the tables of figures.LEFT_OUT_TABLES are missing."""
+    pytest.importorskip("matplotlib")
+    from fontTools.ttLib import TTFont
+    from matplotlib import font_manager
+    from matplotlib.backends import _backend_pdf_ps
+
+    from pendulab import figures
+    path = font_manager.findfont("DejaVu Sans")
+    fontfile = font_manager.FontPath(path, 0)  # as matplotlib's PDF backend names a font file
+    glyphs = figures._common_glyphs(path)
+    data, index_map = figures._lean_subset(fontfile, glyphs)
+    with _backend_pdf_ps.get_glyphs_subset(fontfile, glyphs) as theirs:
+        plain = TTFont(_backend_pdf_ps.font_as_file(theirs.font))
+        their_map = dict(theirs.glyph_index_map)
+    lean = TTFont(io.BytesIO(data))
+    missing = set(plain.keys()) - set(lean.keys())
+    assert missing and missing <= set(figures.LEFT_OUT_TABLES) and set(lean.keys()) <= set(plain.keys())
+    assert "GSUB" in missing and "GPOS" in missing
+    # every glyph asked for is in both, at the index each map gives
+    order, their_order = lean.getGlyphOrder(), plain.getGlyphOrder()
+    assert set(glyphs) <= set(index_map) and set(glyphs) <= set(their_map)
+    names = {order[index_map[g]] for g in glyphs}
+    assert names == {their_order[their_map[g]] for g in glyphs}
+    for name in names:
+        assert lean["glyf"][name].getCoordinates(lean["glyf"])[0] == \
+            plain["glyf"][name].getCoordinates(plain["glyf"])[0], name
+        assert lean["hmtx"][name] == plain["hmtx"][name], name
+    assert lean.getBestCmap() == {c: n for c, n in plain.getBestCmap().items() if n in set(order)}
 
 
 def test_is_zero_proves_bessel_identities_and_refuses_the_others():

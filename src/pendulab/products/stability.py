@@ -18,6 +18,7 @@ or a numeric explicit inertia).
 from fractions import Fraction
 
 from pendulab.errors import InputError
+from pendulab.figures import collector_paused
 
 from pendulab.limits import LIMITS as _LIMITS, option as _limited
 
@@ -162,6 +163,7 @@ def latex_table(doc):
             + "\\end{table}\n")
 
 
+@collector_paused
 def figure_svg(doc):
     """The limits drawn in the (a/l, omega0/omega) plane as deterministic SVG text."""
     try:
