@@ -153,3 +153,16 @@ def test_is_zero_proves_bessel_identities_and_refuses_the_others():
         assert not _fast_zero(other) and not is_zero(other)
     trig = sp.sin(x) ** 2 + sp.cos(x) ** 2 - 1
     assert not _fast_zero(trig) and is_zero(trig)
+
+
+def test_scalar_horner_is_numpy_polyval_bit_for_bit():
+    """series._horner (the scalar branch's and the polish's polynomial values) against numpy.polyval."""
+    rng = np.random.default_rng(7)
+    polys = [p for order in (2, 6, 12) for _, num, den in series._alpha_polys_in_x(order) for p in (num, den)]
+    points = list(rng.uniform(-5.0, 1.0, 200)) + [0.0, 1.0, -0.0, 1e300, -1e300]
+    with np.errstate(all="ignore"):
+        for p in polys + [rng.normal(size=9) * 10.0 ** rng.integers(-200, 200, 9)]:
+            for x in points:
+                expected = np.polyval(p, x)
+                got = series._horner(list(p), float(x))
+                assert got == expected or (np.isnan(expected) and got != got)

@@ -834,6 +834,16 @@ def _alpha_polys_in_x(order):
     return tuple(out)
 
 
+def _horner(p, x):
+    """numpy.polyval(p, x) for a scalar x, on Python floats: the same Horner steps
+    (y = y x + c from y = 0), so the same double, without numpy's per-call work.
+    ``p``: the coefficients as a list of floats, highest power first."""
+    y = 0.0
+    for c in p:
+        y = y * x + c
+    return y
+
+
 def _branch_theta1(polys, x, target):
     """Smallest theta1 > 0 with theta0_N(x, theta1) = target (None if there is none).
 
@@ -845,7 +855,8 @@ def _branch_theta1(polys, x, target):
     coeffs[0] = x - target
     with np.errstate(all="ignore"):  # an overflow is answered below (no branch), not warned
         for n, num, den in polys:
-            coeffs[n] = np.polyval(num, x) / np.polyval(den, x)
+            # numpy's division (inf or nan at a pole, not ZeroDivisionError)
+            coeffs[n] = np.float64(_horner(num.tolist(), x)) / _horner(den.tolist(), x)
     if not np.all(np.isfinite(coeffs)):
         return None
     if coeffs[0] == 0:
@@ -856,9 +867,10 @@ def _branch_theta1(polys, x, target):
         return None
     from scipy.optimize import brentq
     t = min(real)
+    highest_first = coeffs[::-1].tolist()
 
     def f(s):
-        return float(np.polyval(coeffs[::-1], s))
+        return _horner(highest_first, s)
 
     a, b = t * (1 - 1e-6), t * (1 + 1e-6)
     if f(a) * f(b) < 0:
@@ -1019,11 +1031,10 @@ class _Root:
     def value(self):
         """The value of :func:`_branch_theta1` at this point (the polished root)."""
         if not self.polished:
-            import numpy as np
-            coeffs = self.coeffs
+            highest_first = self.coeffs[::-1].tolist()
 
             def f(s):
-                return float(np.polyval(coeffs[::-1], s))
+                return _horner(highest_first, s)
 
             a, b = self.lo, self.hi
             if f(a) * f(b) < 0:
