@@ -65,7 +65,10 @@ def _check_depth(depth):
 def mathieu_operator(f):
     """Left side of 000 eq. 7 applied to ``f(tau)``, with 2 cos 2tau written as exponentials."""
     drive = (2 * sp.cos(2 * S.tau)).rewrite(sp.exp)
-    return sp.diff(f, S.tau, 2) + (S.theta0 + S.theta1 * drive) * f
+    # theta'' as the derivative of the derivative: the same value as diff(f, tau, 2), without
+    # the factor_terms SymPy applies to a second derivative of a sum (the recurrence read from
+    # it is the same expression, tests/test_phelps_hunter.py)
+    return sp.diff(sp.diff(f, S.tau), S.tau) + (S.theta0 + S.theta1 * drive) * f
 
 
 def ansatz(depth):
