@@ -8,7 +8,9 @@ the closed forms of methods eq12, eq19, eq19-corrected
 the exact limits of the build's calls (kapitza-point: 11 ratios on [0, 1/2],
 point mass; kapitza-rod: 21 on [0, 1], rod) and the series limits of a build's
 process (eq. 28 on the experiments' 41 ratios k/40 and their 10 x 10 map's grid,
-which hold the stability product's grids; series:6 on the rod's 21).  The
+which hold the stability product's grids; series:6 on the rod's 21) and the rod's
+first-order system (pendulab.numerics.model.pivot_system, which the experiments
+and kernels products integrate and print).  The
 baseline's src is exported with git archive into a temporary directory.  CPU
 time (time.process_time); the two sides alternate ``--repeat`` times and the
 least time of each counts (the machine may be shared).
@@ -41,7 +43,16 @@ for n, method in ((41, "eq28"), (10, "eq28"), (21, "series:6")):
     for k in range(n):
         stability.limits(k / (n - 1), 4 / 3, method)
 series = time.process_time() - c
-print(formulas, exact, series)
+from pendulab.canonical import periodic_form
+from pendulab.equations import derive
+from pendulab.numerics import model
+from pendulab.systems import DrivenPivot
+eqs = derive(DrivenPivot(body="rod"))  # the derivation: shared, not counted
+form = periodic_form(eqs)
+c = time.process_time()
+model.pivot_system(eqs, form)
+pivot = time.process_time() - c
+print(formulas, exact, series, pivot)
 """
 
 
@@ -64,10 +75,10 @@ def main():
             t.extractall(tmp)
         runs = [(run(os.path.join(tmp, "src")), run(os.path.join(root, "src")))
                 for _ in range(max(1, args.repeat))]
-    base = [min(b[i] for b, _ in runs) for i in range(3)]
-    ours = [min(o[i] for _, o in runs) for i in range(3)]
+    base = [min(b[i] for b, _ in runs) for i in range(4)]
+    ours = [min(o[i] for _, o in runs) for i in range(4)]
     for i, what in enumerate(("closed forms (_formula)", "exact limits (32 calls)",
-                              "series limits (72 calls)")):
+                              "series limits (72 calls)", "pivot system (rod)")):
         print(f"{what:26s} ours {ours[i]:.3f} s  baseline {base[i]:.3f} s  "
               f"ratio {base[i] / ours[i]:.2f}x")
 
