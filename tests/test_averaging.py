@@ -188,3 +188,35 @@ def test_period_average_by_constant_term_against_the_integral():
     # the test can fail: the mean of cos^2 is 1/2, not 1
     assert av.period_average(c**2) == sp.Rational(1, 2)
     assert sp.simplify(av.period_average(c**2) - 1) != 0
+
+
+# -- the lower bounds' fast route against the averaged torques' ---------------------
+
+def _slow_lower_bound(inertia):
+    """The least a/l by the averaged torques (trigsimp and factor), SymPy's limit at psi = 0,
+    simplify and solve: the route the module had before it cancelled the means' ratio."""
+    torques = av.averaged_torques(inertia)
+    ratio = sp.simplify(sp.limit(-torques["inertial"] / torques["gravitational"], psi, 0))
+    (g_of_w0,) = sp.solve(sp.Eq(w0**2, m * g * l / I), g)
+    roots = [s for s in sp.solve(sp.Eq(ratio.subs(g, g_of_w0), 1), a) if s.is_positive is not False]
+    (a_min,) = roots
+    return ph.to_dimensionless(a_min / l)
+
+
+@pytest.mark.parametrize("inertia", ["source", "I", "rod", "point"])
+def test_small_psi_ratio_is_the_limit_of_the_averaged_torques(inertia):
+    # structural equality (srepr): the lower bounds are lambdified and printed from these
+    assert sp.srepr(av._small_psi_ratio(inertia)) == sp.srepr(av._ratio_at_small_psi(inertia))
+
+
+def test_lower_bounds_are_the_slow_routes_expressions():
+    assert sp.srepr(av.lower_bound_source()) == sp.srepr(_slow_lower_bound("source"))
+    assert sp.srepr(av.lower_bound_physical()) == sp.srepr(_slow_lower_bound("I"))
+    # and the comparison can fail: the two bounds differ for a rod-like body
+    assert sp.srepr(av.lower_bound_source()) != sp.srepr(_slow_lower_bound("I"))
+
+
+def test_lagrangian_torques_are_what_simplify_gives():
+    # _lagrangian_torques expands instead of simplifying: simplify must give them back unchanged
+    for part in av._lagrangian_torques():
+        assert sp.srepr(sp.simplify(part)) == sp.srepr(part)

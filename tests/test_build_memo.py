@@ -66,8 +66,12 @@ def test_the_interval_is_the_one_of_the_point_by_point_scan():
             before, prev = prev, (float(x), t)
         return lower, None
 
-    for order in (2, 3, 6):
-        for target in (-0.64, -0.04, 0.2):
+    # the stability product's and the experiments' orders and theta0 = -4 (omega0/omega)^2 on
+    # their grids (k/20 and k/40), and a few more: the batched first descent (series._first_descent)
+    # must stop where the point-by-point loop stops
+    targets = [-0.64, -0.04, 0.2, 0.0, -4.0, -1e-9] + [-4 * (k / 40) ** 2 for k in range(1, 41, 3)]
+    for order in (2, 3, 6, 8):
+        for target in targets:
             with np.errstate(all="ignore"):
                 expected = point_by_point(order, target)
             assert series.interval_series_theta1(order, target) == expected
@@ -173,3 +177,16 @@ def test_is_zero_proves_bessel_identities_and_refuses_the_others():
         assert not _fast_zero(other) and not is_zero(other)
     trig = sp.sin(x) ** 2 + sp.cos(x) ** 2 - 1
     assert not _fast_zero(trig) and is_zero(trig)
+
+
+def test_scalar_horner_is_numpy_polyval_bit_for_bit():
+    """series._horner (the scalar branch's and the polish's polynomial values) against numpy.polyval."""
+    rng = np.random.default_rng(7)
+    polys = [p for order in (2, 6, 12) for _, num, den in series._alpha_polys_in_x(order) for p in (num, den)]
+    points = list(rng.uniform(-5.0, 1.0, 200)) + [0.0, 1.0, -0.0, 1e300, -1e300]
+    with np.errstate(all="ignore"):
+        for p in polys + [rng.normal(size=9) * 10.0 ** rng.integers(-200, 200, 9)]:
+            for x in points:
+                expected = np.polyval(p, x)
+                got = series._horner(list(p), float(x))
+                assert got == expected or (np.isnan(expected) and got != got)

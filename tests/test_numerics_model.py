@@ -119,3 +119,31 @@ def test_numbers_reach_the_scene_own_symbols():
     eqs = derive(VariableLength(length=parse("L0*(1 + eps*sin(Omega*t))")))
     fos = length_system(eqs, values={"eps": 0.05, "Omega": 6, "L0": 1, "g": 9.81})
     assert fos.params == ()
+
+
+@pytest.mark.parametrize("body,drive,angle,values", [
+    ("rod", S.a * sp.cos(S.omega * S.t), "up", None),               # kapitza-rod, kapitza-experiments
+    ("point", S.a * sp.cos(S.omega * S.t), "up", None),             # kapitza-point
+    ("explicit", S.a * sp.cos(S.omega * S.t), "up", None),          # I symbolic: inertia_ratio
+    ("rod", S.a * sp.sin(S.omega * S.t), "up", None),
+    ("rod", S.a * sp.cos(S.omega * S.t), "down", None),
+    ("point", S.a * sp.cos(S.omega * S.t) + S.a * sp.cos(2 * S.omega * S.t), "up", None),
+    ("rod", S.a * sp.cos(S.omega * S.t) ** 2, "up", None),          # sin^2 and cos^2: simplify's own
+    ("rod", S.a * sp.cos(S.omega * S.t), "up", {"l": "1/20", "a": "3/500", "omega": "2*pi*86",
+                                               "g": "981/100"}),   # pi: simplify's own
+])
+def test_pivot_system_right_sides_are_simplifys(body, drive, angle, values):
+    """numerics.model._tidy (cancel and factor_terms where they apply) gives simplify's
+    expressions, tree for tree: the kernels are printed and lambdified from them."""
+    from pendulab.numerics import model
+    eqs = derive(DrivenPivot(body=body, drive=drive, angle=angle))
+    form = periodic_form(eqs)
+    fos = model._pivot_system(eqs, form, values, values is None)
+    original, model._tidy = model._tidy, sp.simplify
+    try:
+        reference = model._pivot_system(eqs, form, values, values is None)
+    finally:
+        model._tidy = original
+    assert [sp.srepr(e) for e in fos.rhs + fos.linear_rhs] == \
+        [sp.srepr(e) for e in reference.rhs + reference.linear_rhs]
+    assert fos.params == reference.params

@@ -290,3 +290,16 @@ def test_taylor_coefficients_against_series():
     assert all(sp.simplify(got[k] - ref.coeff(s, k)) == 0 for k in range(4))
     # and it fails for a wrong function
     assert sp.simplify(ph._taylor_coefficients(f + s**2, s, 3)[2] - ref.coeff(s, 2)) != 0
+
+
+def test_recurrence_row_is_the_one_of_the_second_derivative():
+    # mathieu_operator differentiates twice by first derivatives; the row read off must be the
+    # one SymPy's second derivative diff(f, tau, 2) gives, tree for tree (srepr)
+    n, b = ph.n, ph.b
+    window = sum(b[n + k] * sp.exp(sp.I * (2 * (n + k) + ph.lam) * S.tau) for k in range(-2, 3))
+    drive = (2 * sp.cos(2 * S.tau)).rewrite(sp.exp)
+    slow = sp.diff(window, S.tau, 2) + (S.theta0 + S.theta1 * drive) * window
+    row = ph._frequency_part(slow, 2 * n + ph.lam)
+    lhs = sum(sp.expand(row.coeff(b[n + k])) * b[n + k] for k in (-1, 0, 1))
+    assert sp.srepr(ph.recurrence().lhs) == sp.srepr(lhs)
+    assert sp.srepr(ph._frequency_part(ph.mathieu_operator(window), 2 * n + ph.lam)) == sp.srepr(row)

@@ -65,7 +65,10 @@ def _check_depth(depth):
 def mathieu_operator(f):
     """Left side of 000 eq. 7 applied to ``f(tau)``, with 2 cos 2tau written as exponentials."""
     drive = (2 * sp.cos(2 * S.tau)).rewrite(sp.exp)
-    return sp.diff(f, S.tau, 2) + (S.theta0 + S.theta1 * drive) * f
+    # theta'' as the derivative of the derivative: the same value as diff(f, tau, 2), without
+    # the factor_terms SymPy applies to a second derivative of a sum (the recurrence read from
+    # it is the same expression, tests/test_phelps_hunter.py)
+    return sp.diff(sp.diff(f, S.tau), S.tau) + (S.theta0 + S.theta1 * drive) * f
 
 
 def ansatz(depth):
@@ -266,10 +269,14 @@ def _mathieu_parameters():
 
 def to_dimensionless(expr):
     """Write ``expr`` in a_over_l = a/l, w0_over_w = omega0/omega and inertia_ratio = I/(m l^2)."""
-    expr = sp.sympify(expr).subs({S.omega0: w0_over_w * S.omega,
+    return sp.simplify(_dimensionless_groups(expr))
+
+
+def _dimensionless_groups(expr):
+    """:func:`to_dimensionless` before its simplify: the groups substituted, nothing else."""
+    return sp.sympify(expr).subs({S.omega0: w0_over_w * S.omega,
                                   S.a: a_over_l * S.l,
                                   S.I: inertia_ratio * S.m * S.l**2})
-    return sp.simplify(expr)
 
 
 def small_parameter_exponent(mathieu=False, depth=1):
@@ -346,14 +353,17 @@ def interval_eq12():
     are its roots at 0 and at 1.  Returns expressions in ``w0_over_w`` and
     ``inertia_ratio``.
     """
-    rhs = to_dimensionless(small_parameter_exponent().rhs)
+    # the right side in the groups, as one cancelled fraction: l, m and omega cancel (no
+    # simplify needed; cancel's numerator and denominator are those of to_dimensionless's form,
+    # which tests/test_phelps_hunter.py checks)
+    rhs = sp.cancel(_dimensionless_groups(small_parameter_exponent().rhs))
     if rhs.free_symbols - {a_over_l, w0_over_w, inertia_ratio}:  # pragma: no cover
         raise RuntimeError(f"eq. 11 is not dimensionless: {rhs}")
     if not sp.factor(sp.diff(rhs, a_over_l)).is_positive:  # pragma: no cover
         raise RuntimeError("sin^2(pi lam/2) of eq. 11 does not increase with a/l")
     # rhs = level is a quadratic in a/l once the denominator is cleared: its roots by the
     # quadratic formula, the one that can be positive kept (a_over_l is a positive symbol)
-    num, den = sp.fraction(sp.cancel(rhs))
+    num, den = sp.fraction(rhs)
     return tuple(sp.simplify(quadratic_root(num - level * den, a_over_l, f"eq. 11 = {level}"))
                  for level in (0, 1))
 

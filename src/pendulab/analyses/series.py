@@ -834,6 +834,16 @@ def _alpha_polys_in_x(order):
     return tuple(out)
 
 
+def _horner(p, x):
+    """numpy.polyval(p, x) for a scalar x, on Python floats: the same Horner steps
+    (y = y x + c from y = 0), so the same double, without numpy's per-call work.
+    ``p``: the coefficients as a list of floats, highest power first."""
+    y = 0.0
+    for c in p:
+        y = y * x + c
+    return y
+
+
 def _branch_theta1(polys, x, target):
     """Smallest theta1 > 0 with theta0_N(x, theta1) = target (None if there is none).
 
@@ -845,7 +855,8 @@ def _branch_theta1(polys, x, target):
     coeffs[0] = x - target
     with np.errstate(all="ignore"):  # an overflow is answered below (no branch), not warned
         for n, num, den in polys:
-            coeffs[n] = np.polyval(num, x) / np.polyval(den, x)
+            # numpy's division (inf or nan at a pole, not ZeroDivisionError)
+            coeffs[n] = np.float64(_horner(num.tolist(), x)) / _horner(den.tolist(), x)
     if not np.all(np.isfinite(coeffs)):
         return None
     if coeffs[0] == 0:
@@ -856,9 +867,10 @@ def _branch_theta1(polys, x, target):
         return None
     from pendulab.numerics.roots import brent_root
     t = min(real)
+    highest_first = coeffs[::-1].tolist()
 
     def f(s):
-        return float(np.polyval(coeffs[::-1], s))
+        return _horner(highest_first, s)
 
     a, b = t * (1 - 1e-6), t * (1 + 1e-6)
     if f(a) * f(b) < 0:
@@ -870,17 +882,42 @@ def _branch_theta1(polys, x, target):
 SCAN_BATCH = 128
 
 
-def _branch_scan(polys, xs, target):
-    """Yield (x, root) for x in ``xs``: root None where :func:`_branch_theta1` (polys, x, target)
-    is None, else a :class:`_Root` whose ``value()`` is that function's value bit for bit.
+class _Batch:
+    """The branch at a batch of points x, as arrays (see :func:`_branch_batches`).
 
-    The work of the scalar function is done for a batch of x at once: the
-    coefficients by the same Horner steps on arrays, the roots as the
+    * ``x`` - the points (floats);
+    * ``t`` - the root before polishing: the smallest positive real root of the
+      companion matrix's eigenvalues, as :func:`_branch_theta1` picks it; NaN
+      where there is none (the branch has ended);
+    * ``exact`` - True where ``t`` is already :func:`_branch_theta1`'s value
+      (zero constant term, or a point done by the scalar function);
+    * ``lo``, ``hi`` - the bracket Brent's method polishes in (``t`` itself where exact);
+    * ``coeffs`` - the polynomial in theta1 at each point, lowest power first.
+    """
+
+    __slots__ = ("x", "t", "exact", "lo", "hi", "coeffs")
+
+    def root(self, i):
+        """The :class:`_Root` of point ``i`` (None where the branch has ended)."""
+        t = float(self.t[i])
+        if t != t:
+            return None
+        if self.exact[i]:
+            return _Root.exact(t)
+        return _Root(self.coeffs[i], t)
+
+
+def _branch_batches(polys, xs, target):
+    """Yield a :class:`_Batch` per SCAN_BATCH points of ``xs``.
+
+    The work of :func:`_branch_theta1` is done for the whole batch at once:
+    the coefficients by the same Horner steps on arrays, the roots as the
     eigenvalues of the same companion matrices that numpy.roots builds, in one
-    batched LAPACK call.  The polishing of a root by Brent's method (the costly part)
-    is left until a comparison needs it (:meth:`_Root.less`).  A point whose
-    leading coefficient is zero (numpy.roots would trim it) goes through the
-    scalar function.
+    batched LAPACK call, and the choice of the smallest positive real root by
+    the same tests on arrays.  The polishing of a root by Brent's method (the
+    costly part) is left until a comparison needs it (:meth:`_Root.less`).  A point
+    whose leading coefficient is zero (numpy.roots would trim it) goes through
+    the scalar function.
     """
     import numpy as np
     degree = polys[-1][0]
@@ -892,31 +929,82 @@ def _branch_scan(polys, xs, target):
             for n, num, den in polys:
                 coeffs[:, n] = np.polyval(num, x) / np.polyval(den, x)
         finite = np.all(np.isfinite(coeffs), axis=1)
-        rows = np.flatnonzero(finite & (coeffs[:, 0] != 0) & (coeffs[:, degree] != 0))
-        roots = {}
+        zero = finite & (coeffs[:, 0] == 0)
+        rows = np.flatnonzero(finite & ~zero & (coeffs[:, degree] != 0))
+        t = np.full(len(x), np.nan)
+        exact = np.ones(len(x), dtype=bool)
+        t[zero] = 0.0
         if rows.size:
             p = coeffs[rows, ::-1]
             companion = np.zeros((rows.size, degree, degree))
             sub = np.arange(1, degree)
             companion[:, sub, sub - 1] = 1.0
             companion[:, 0, :] = -p[:, 1:] / p[:, :1]
-            roots = dict(zip(rows.tolist(), np.linalg.eigvals(companion)))
-        for i in range(len(x)):
-            xi = float(x[i])
-            if not finite[i]:
-                yield xi, None
-            elif coeffs[i, 0] == 0:
-                yield xi, _Root.exact(0.0)
-            elif i not in roots:
-                t = _branch_theta1(polys, xi, target)
-                yield xi, None if t is None else _Root.exact(t)
-            else:
-                real = [r.real for r in roots[i] if abs(r.imag) <= 1e-9 * max(1.0, abs(r)) and r.real > 0]
-                yield xi, _Root(coeffs[i], min(real)) if real else None
+            roots = np.linalg.eigvals(companion)
+            # abs(r.imag) <= 1e-9 max(1, |r|) and r.real > 0, as _branch_theta1 tests each root
+            # (fmax: Python's max(1.0, nan) is 1.0)
+            real = (np.abs(roots.imag) <= 1e-9 * np.fmax(1.0, np.abs(roots))) & (roots.real > 0)
+            smallest = np.where(real, roots.real, np.inf).min(axis=1)
+            smallest[~real.any(axis=1)] = np.nan
+            t[rows] = smallest
+            exact[rows] = False
+        for i in np.flatnonzero(finite & ~zero & (coeffs[:, degree] == 0)):
+            value = _branch_theta1(polys, float(x[i]), target)
+            t[i] = np.nan if value is None else value
+        lo, hi = t * (1 - 1e-6), t * (1 + 1e-6)
+        lo[exact], hi[exact] = t[exact], t[exact]
+        batch = _Batch()
+        batch.x, batch.t, batch.exact, batch.lo, batch.hi, batch.coeffs = x, t, exact, lo, hi, coeffs
+        yield batch
 
 
-#: Points of x per batch of :func:`_branch_scan` (the scan usually ends within the first few hundred).
-SCAN_BATCH = 128
+def _branch_scan(polys, xs, target):
+    """Yield (x, root) for x in ``xs``: root None where :func:`_branch_theta1` (polys, x, target)
+    is None, else a :class:`_Root` whose ``value()`` is that function's value bit for bit
+    (computed a batch at a time by :func:`_branch_batches`)."""
+    for batch in _branch_batches(polys, xs, target):
+        for i in range(len(batch.x)):
+            yield float(batch.x[i]), batch.root(i)
+
+
+def _first_descent(polys, xs, target):
+    """The first point of ``xs`` where the branch phi(x) ends or decreases.
+
+    Returns (k, ended, previous): ``k`` the index of the first point whose
+    root is None (``ended``) or less than the previous point's (the branch
+    starts at (target, 0)), ``previous`` the :class:`_Root` of the point
+    before it; (None, False, None) when neither happens.  Two neighbours are
+    compared by their brackets on arrays where the brackets do not overlap
+    (:meth:`_Root.less` decides the same way, and agrees with the polished
+    values); where they overlap, by :meth:`_Root.less` itself.  Only the roots
+    that a comparison or the caller needs are made.
+    """
+    import numpy as np
+    prev_lo = prev_hi = 0.0
+    prev_root = _Root.exact(0.0)
+    offset = 0
+    for batch in _branch_batches(polys, xs, target):
+        n = len(batch.x)
+        ended = np.isnan(batch.t)
+        lo_prev = np.concatenate([[prev_lo], batch.lo[:-1]])
+        hi_prev = np.concatenate([[prev_hi], batch.hi[:-1]])
+        less = batch.hi < lo_prev
+        unsure = ~ended & ~less & ~(batch.lo >= hi_prev)
+        made = {-1: prev_root}
+
+        def root(i):
+            if i not in made:
+                made[i] = batch.root(i)
+            return made[i]
+
+        for j in np.flatnonzero(ended | less | unsure).tolist():
+            if ended[j]:
+                return offset + j, True, root(j - 1)
+            if less[j] or root(j).less(root(j - 1)):
+                return offset + j, False, root(j - 1)
+        prev_lo, prev_hi, prev_root = float(batch.lo[-1]), float(batch.hi[-1]), root(n - 1)
+        offset += n
+    return None, False, None
 
 
 class _Root:
@@ -943,11 +1031,10 @@ class _Root:
     def value(self):
         """The value of :func:`_branch_theta1` at this point (the polished root)."""
         if not self.polished:
-            import numpy as np
-            coeffs = self.coeffs
+            highest_first = self.coeffs[::-1].tolist()
 
             def f(s):
-                return float(np.polyval(coeffs[::-1], s))
+                return _horner(highest_first, s)
 
             a, b = self.lo, self.hi
             if f(a) * f(b) < 0:
@@ -1030,19 +1117,13 @@ def interval_series_theta1(order, target):
                                    1.0 - np.geomspace(1.0, 1e-7, 3000)]))
     xs = xs[xs > target]
     upper_t1 = None
-    prev = (target, _Root.exact(0.0))
-    before = None
-    for x, t in _branch_scan(polys, xs, target):
-        if t is None:
-            break
-        if t.less(prev[1]):
-            from pendulab.numerics.roots import brent_minimum
-            lo_x = before[0] if before is not None else target
-            _, low = brent_minimum(lambda s: -(_branch_theta1(polys, s, target) or 0.0),
-                                   lo_x, float(x), xatol=1e-13, maxiter=500)
-            upper_t1 = max(-low, prev[1].value())
-            break
-        before, prev = prev, (float(x), t)
+    k, ended, previous = _first_descent(polys, xs, target)
+    if k is not None and not ended:
+        from pendulab.numerics.roots import brent_minimum
+        lo_x = float(xs[k - 2]) if k >= 2 else target
+        _, low = brent_minimum(lambda s: -(_branch_theta1(polys, s, target) or 0.0),
+                               lo_x, float(xs[k]), xatol=1e-13, maxiter=500)
+        upper_t1 = max(-low, previous.value())
     return lower_t1, upper_t1
 
 

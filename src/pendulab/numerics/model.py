@@ -153,7 +153,7 @@ def pivot_system(equations, form, values=None, groups=True):
     ``values`` maps symbol names to numbers substituted after the groups
     (e.g. ``{"l": 0.05}``); ``groups=False`` keeps the physical symbols.
     Made once per process for each derivation, body inertia, values and
-    groups (the final simplify is most of a build's symbolic work here): the
+    groups (the final simplify, :func:`_tidy`, was most of a build's symbolic work here): the
     same record is returned again.
 
     >>> from pendulab.equations import derive
@@ -182,6 +182,30 @@ def pivot_system(equations, form, values=None, groups=True):
     return out
 
 
+def _tidy(expr):
+    """simplify(expr) for a right-hand side of the driven pivot, by cancel and factor_terms where they do.
+
+    Where the expression's numbers are rationals and its only functions sines
+    and cosines of distinct angles, each of degree at most 1 in the cancelled
+    fraction (the drive a cos(omega t) of the scenes: a rational function of the
+    symbols times sin(theta) or theta, linear in cos(2 tau)), the cancelled
+    fraction with the common factors of its terms taken out is what simplify
+    gives, and it is formed here without simplify's trigonometric search (0.1 s
+    per process).  tests/test_numerics_model.py compares the two by srepr for
+    the scenes' drives and others; whatever else (Floats, pi, sin^2 + cos^2, other
+    functions) goes through simplify.
+    """
+    trig = expr.atoms(sp.Function)
+    if (expr.has(sp.Float, sp.NumberSymbol, sp.I)
+            or any(not isinstance(f, (sp.sin, sp.cos)) for f in trig)
+            or len({f.args[0] for f in trig}) != len(trig)):
+        return sp.simplify(expr)
+    fraction = sp.cancel(expr)
+    if any(sp.degree(part, f) > 1 for part in sp.fraction(fraction) for f in trig):
+        return sp.simplify(expr)
+    return sp.factor_terms(fraction)
+
+
 def _pivot_system(equations, form, values, groups):
     system = equations.system
     th = system.coordinate
@@ -208,7 +232,7 @@ def _pivot_system(equations, form, values, groups):
     nums = _numbers(values, out)
     if nums:
         out = [e.subs(_physical(nums, inertia)).subs(nums) for e in out]
-    out = [sp.simplify(e) for e in out]
+    out = [_tidy(e) for e in out]
     params = tuple(sorted(set().union(*(e.free_symbols for e in out)) - {S.tau, *STATES},
                           key=lambda s: s.name))
     about = system.inverted_position
