@@ -45,8 +45,9 @@ def test_root_brackets_decide_as_the_polished_values():
 
 
 def test_the_interval_is_the_one_of_the_point_by_point_scan():
-    """interval_series_theta1 against the loop it had before (scalar _branch_theta1 at every x)."""
-    from scipy.optimize import minimize_scalar
+    """interval_series_theta1 against the loop it had before (scalar _branch_theta1 at every x;
+    the maximum found by the same minimiser, which tests/test_roots.py checks)."""
+    from pendulab.numerics.roots import brent_minimum
 
     def point_by_point(order, target):
         polys = series._alpha_polys_in_x(order)
@@ -59,10 +60,9 @@ def test_the_interval_is_the_one_of_the_point_by_point_scan():
                 return lower, None
             if t < prev[1]:
                 lo_x = before[0] if before is not None else target
-                res = minimize_scalar(lambda s: -(series._branch_theta1(polys, s, target) or 0.0),
-                                      bounds=(lo_x, float(x)), method="bounded",
-                                      options={"xatol": 1e-13, "maxiter": 500})
-                return lower, max(-res.fun, prev[1])
+                _, low = brent_minimum(lambda s: -(series._branch_theta1(polys, s, target) or 0.0),
+                                       lo_x, float(x), xatol=1e-13, maxiter=500)
+                return lower, max(-low, prev[1])
             before, prev = prev, (float(x), t)
         return lower, None
 
