@@ -579,6 +579,28 @@ def test_a_parallel_build_leaves_the_callers_garbage_collector_as_it_was(tmp_pat
         {"a": "built", "b": "built", "c": "built"}
     assert gc.get_freeze_count() == 0
     assert gc.get_threshold() == before
+    # a caller that froze objects of its own keeps them frozen
+    gc.freeze()
+    try:
+        mine = gc.get_freeze_count()
+        assert build(scenes, tmp_path / "out2", log=lambda m: None, jobs=2) == \
+            {"a": "built", "b": "built", "c": "built"}
+        assert 0 < gc.get_freeze_count() <= mine  # still frozen, and nothing more frozen
+    finally:
+        gc.unfreeze()
+
+
+def test_the_heap_is_unfrozen_when_the_workers_cannot_start(tmp_path, monkeypatch):
+    import gc
+
+    from pendulab import build as build_module
+
+    def no_shared_memory(*args):
+        raise OSError("shared memory unavailable")
+    monkeypatch.setattr(build_module, "_Shared", no_shared_memory)
+    with pytest.raises(OSError):
+        build(_scenes(tmp_path), tmp_path / "out", log=lambda m: None, jobs=2)
+    assert gc.get_freeze_count() == 0
 
 
 MANY = {"m.toml": 'system = "kapitza"\n[parameters]\nbody = "rod"\n[products.equations]\n'

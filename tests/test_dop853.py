@@ -143,3 +143,23 @@ def test_variable_length_t_eval_outside_the_span():
         vm.integrate(fos, system.length, values, 1.0, 0.05, t_eval=[0.0, 2.0])
     tr = vm.integrate(fos, system.length, values, 1.0, 0.05, t_eval=[0.5, 1.0])
     assert tr.t.tolist() == [0.5, 1.0] and len(tr.theta) == 2
+
+
+def test_tables_read_from_the_file_are_scipys():
+    """dop853._tables loads SciPy's coefficient module from its file (no scipy.integrate
+    package initialisation); its arrays are those of the module imported by name."""
+    import subprocess
+    import sys
+    code = ("import sys\n"
+            "from pendulab.numerics import dop853\n"
+            "mine = dop853._tables()\n"
+            "assert 'scipy.integrate' not in sys.modules\n"
+            "import numpy as np\n"
+            "from scipy.integrate._ivp import dop853_coefficients as D\n"
+            "names = [n for n in dir(D) if n.isupper()]\n"
+            "assert names and all(np.array_equal(getattr(mine, n), getattr(D, n)) for n in names)\n"
+            "assert dop853._tables() is not None\n"
+            "print(len(names))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert int(out.stdout) >= 8  # N_STAGES, A, B, C, E3, E5, D and more

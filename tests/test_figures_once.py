@@ -196,3 +196,49 @@ def test_map_figure_kept_for_the_next_map_draws_a_new_figures_bytes(crits):
     experiments._MAP_FIGURES.clear()
     assert len({f[".png"] for f in fresh}) == len(shifts)  # the maps differ
     assert kept == fresh
+
+
+@pytest.mark.parametrize("rc", [{"savefig.bbox": "tight"}, {"savefig.transparent": True},
+                                {"savefig.facecolor": "red"}])
+def test_a_matplotlibrc_savefig_setting_changes_neither_file(rc):
+    """A user's matplotlibrc (savefig.bbox: tight draws the figure twice, once to measure)
+    must not reach the products' files: save() gives the bytes it gives with the defaults."""
+    matplotlib, plt = figures.pyplot("test")
+    fig = _figure(plt)
+    try:
+        plain = figures.save(fig)
+        with matplotlib.rc_context(rc):
+            under_rc = figures.save(fig)
+    finally:
+        plt.close(fig)
+    assert under_rc == plain
+
+
+def test_a_second_drawing_during_one_save_sends_the_png_to_its_own_drawing():
+    """Were savefig to draw the figure twice (a tight box measured first), the canvas would
+    hold both drawings: it is then not used."""
+    matplotlib, plt = figures.pyplot("test")
+    fig = _figure(plt)
+    try:
+        with figures._DrawnTwice(fig, 150) as both:
+            fig.savefig(io.BytesIO(), format="pdf", metadata=figures.PDF_METADATA, bbox_inches="tight")
+        assert not both.complete
+    finally:
+        plt.close(fig)
+
+
+def test_a_figures_own_draw_override_is_used_and_kept():
+    matplotlib, plt = figures.pyplot("test")
+    fig = _figure(plt)
+    calls = []
+    real = fig.draw
+
+    def own(renderer):
+        calls.append(renderer)
+        return real(renderer)
+    fig.draw = own
+    try:
+        figures.save(fig)
+    finally:
+        plt.close(fig)
+    assert len(calls) == 1 and fig.__dict__["draw"] is own

@@ -154,3 +154,23 @@ def test_refinements_of_a_build_import_neither_scipy_optimize_nor_scipy_integrat
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize("f", [
+    lambda x: math.nan if x == 0 else 1.0,                               # NaN at an end
+    lambda x: x - 0.3 if abs(x - 0.5) > 0.2 else math.nan,               # NaN inside, root at its edge
+    lambda x: -1.0 if x == 0 else (1.0 if x == 1 else math.nan),         # NaN everywhere inside
+])
+def test_root_refuses_a_nan_value_instead_of_returning_a_false_root(f):
+    """SciPy's brentq raises on NaN; so does brent_root (a pendulab error: one line), and it
+    never returns a point where f is not 0 within the tolerance."""
+    from pendulab.errors import PendulabError
+    from pendulab.numerics.roots import NotANumber
+    with pytest.raises(NotANumber) as err:
+        brent_root(f, 0.0, 1.0)
+    assert isinstance(err.value, PendulabError) and "\n" not in str(err.value)
+
+
+def test_no_convergence_is_a_pendulab_error():
+    from pendulab.errors import PendulabError
+    assert issubclass(NoConvergence, PendulabError)

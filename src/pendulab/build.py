@@ -289,13 +289,15 @@ def compute_scenes(scenes, jobs=1):
     _preload(scenes)
     tasks.sort(key=lambda t: -_weight(t))  # stable: scene order within a weight
     import gc
-    gc.freeze()  # the shared heap stays out of the collections (the workers' pages stay shared)
     fork = mp.get_context("fork")
-    state = _Shared(fork.Array("b", len(tasks)), fork.Array("i", len(scenes)), fork.Value("b", 0),
-                    [_weight(t) for t in tasks])
     workers = []
     done = {}
+    frozen = gc.get_freeze_count() == 0  # a caller's own frozen objects are left as they are
     try:
+        state = _Shared(fork.Array("b", len(tasks)), fork.Array("i", len(scenes)), fork.Value("b", 0),
+                        [_weight(t) for t in tasks])
+        if frozen:
+            gc.freeze()  # the shared heap stays out of the collections (the workers' pages stay shared)
         for me in range(1, min(jobs, len(tasks))):
             receive, send = fork.Pipe(duplex=False)
             proc = fork.Process(target=_worker, args=(scenes, tasks, state, send, me), daemon=True)
@@ -315,7 +317,8 @@ def compute_scenes(scenes, jobs=1):
                 proc.terminate()
             proc.join()
             receive.close()
-        gc.unfreeze()  # this process goes on (an API caller's): its objects are collectable again
+        if frozen:
+            gc.unfreeze()  # this process goes on (an API caller's): its objects are collectable again
     out = []
     for i, sc in enumerate(scenes):
         mine = [k for k, (j, _, _) in enumerate(tasks) if j == i]

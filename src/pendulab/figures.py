@@ -67,6 +67,12 @@ def collector_paused(function):
     return paused
 
 
+#: savefig settings pinned while a product's figure is saved, whatever a matplotlibrc says:
+#: the figure as laid out (no tight box, which would also draw it twice), opaque, in its colours
+SAVEFIG_RC = {"savefig.bbox": "standard", "savefig.transparent": False,
+              "savefig.facecolor": "auto", "savefig.edgecolor": "auto"}
+
+
 def save(fig, dpi=150):
     """{".png": bytes, ".pdf": bytes} of ``fig`` (PNG at ``dpi``), no dates or versions inside.
 
@@ -91,7 +97,7 @@ def save(fig, dpi=150):
         buf = io.BytesIO()
         import matplotlib
         with _shared_font_subsets(), _DrawnTwice(fig, dpi) as both, \
-                matplotlib.rc_context({"pdf.compression": PDF_COMPRESS_LEVEL}):
+                matplotlib.rc_context({"pdf.compression": PDF_COMPRESS_LEVEL, **SAVEFIG_RC}):
             fig.savefig(buf, format="pdf", metadata=PDF_METADATA)
         return {".png": both.png() if both.complete else png(fig, dpi), ".pdf": buf.getvalue()}
     finally:
@@ -150,6 +156,9 @@ def _png_bytes(buffer, dpi):
     return out.getvalue()
 
 
+_NONE = object()
+
+
 class _DrawnTwice:
     """While a figure is saved as PDF: each of its drawing calls also drawn on an Agg canvas.
 
@@ -159,8 +168,8 @@ class _DrawnTwice:
     RendererAgg at ``dpi``, its coordinates scaled by dpi/72: the figure's transforms are
     linear in its dpi, and line widths, dashes and font sizes stay in points for both.  Only
     the texts' metrics differ: the layout (alignment, the legends' and labels' places) is the
-    PDF's, so a text of the PNG may sit up to a pixel from where a drawing of its own would put
-    it.  ``complete`` is False when the figure asked for something :class:`_Both` does not
+    PDF's, so a text of the PNG may sit a few pixels (up to 3 in the products) from where a
+    drawing of its own would put it.  ``complete`` is False when the figure asked for something :class:`_Both` does not
     draw on the canvas; the caller then draws the PNG by itself.
     """
 
@@ -174,12 +183,17 @@ class _DrawnTwice:
         fig = self.fig
         width, height = fig.get_size_inches()
         self.agg = RendererAgg(width * self.dpi, height * self.dpi, self.dpi)
-        draw = type(fig).draw
+        self._own = fig.__dict__.get("draw", _NONE)  # an override of the figure's own
+        draw = fig.draw
+        drawn = []
 
         def both(renderer):
             tee = _Both(renderer, self.agg, self.dpi / 72.0)
-            draw(fig, tee)
-            self.complete = not tee.missed
+            draw(tee)
+            drawn.append(tee)
+            # one drawing, complete, is the PNG; a second one (savefig measuring a tight
+            # box first) would be drawn over it: then the PNG gets a drawing of its own
+            self.complete = len(drawn) == 1 and not tee.missed
 
         # savefig's PDF backend calls figure.draw(renderer) once: this instance attribute
         # stands in for the method while the file is written
@@ -187,7 +201,10 @@ class _DrawnTwice:
         return self
 
     def __exit__(self, *exc):
-        del self.fig.draw
+        if self._own is _NONE:
+            del self.fig.draw
+        else:
+            self.fig.draw = self._own
         return False
 
     def png(self):

@@ -71,9 +71,13 @@ def _tables():
     if path is None:
         import importlib
         return importlib.import_module(_TABLES)
-    mspec = importlib.util.spec_from_file_location("_pendulab_" + _TABLES, path)
-    module = importlib.util.module_from_spec(mspec)
-    mspec.loader.exec_module(module)
+    try:
+        mspec = importlib.util.spec_from_file_location("_pendulab_" + _TABLES, path)
+        module = importlib.util.module_from_spec(mspec)
+        mspec.loader.exec_module(module)
+    except Exception:  # a SciPy whose file needs its package after all: the ordinary import
+        import importlib
+        return importlib.import_module(_TABLES)
     sys.modules["_pendulab_" + _TABLES] = module
     return module
 

@@ -23,21 +23,33 @@ Both call ``f`` with Python floats only and never return a point outside
 
 import math
 
-from pendulab.errors import InputError
+from pendulab.errors import ConvergenceError, InputError
 
 EPS = 2.220446049250313e-16  # spacing of doubles at 1 (2**-52)
 _GOLDEN = (3.0 - math.sqrt(5.0)) / 2.0  # 0.381966...: the golden-section fraction
 
 
-class NoConvergence(ArithmeticError):
-    """The iteration limit was reached before the tolerance."""
+class NoConvergence(ConvergenceError):
+    """The iteration limit was reached before the tolerance (a pendulab error: one line)."""
+
+
+class NotANumber(ConvergenceError):
+    """The function gave NaN where a root is refined: no sign can be read off."""
+
+
+def _value(f, x):
+    v = float(f(x))
+    if v != v:
+        raise NotANumber(f"brent_root: the function is NaN at x = {x!r}")
+    return v
 
 
 def brent_root(f, a, b, xtol=2e-12, rtol=4 * EPS, maxiter=100):
     """A root of ``f`` in [a, b] to within xtol + rtol |root| (Brent 1973, ch. 4).
 
     ``f(a)`` and ``f(b)`` must differ in sign (or one of them be 0): an
-    InputError says so otherwise.  Each step takes the inverse quadratic (or
+    InputError says so otherwise; a NaN value of ``f`` anywhere raises
+    :class:`NotANumber` (as SciPy's brentq raises), never a false root.  Each step takes the inverse quadratic (or
     secant) estimate when it falls well inside the bracket and shrinks it
     fast enough, else bisects, so the bracket always contains a sign change.
 
@@ -50,7 +62,7 @@ def brent_root(f, a, b, xtol=2e-12, rtol=4 * EPS, maxiter=100):
         raise InputError(f"brent_root: the bracket [{a!r}, {b!r}] is not finite")
     if xtol <= 0 or rtol < 4 * EPS:
         raise InputError(f"brent_root: xtol {xtol!r} must be > 0 and rtol {rtol!r} >= 4 eps")
-    fa, fb = float(f(a)), float(f(b))
+    fa, fb = _value(f, a), _value(f, b)
     if fa == 0.0:
         return a
     if fb == 0.0:
@@ -91,7 +103,7 @@ def brent_root(f, a, b, xtol=2e-12, rtol=4 * EPS, maxiter=100):
                 d = e = m
         a, fa = b, fb
         b += d if abs(d) > tol else (tol if m > 0 else -tol)
-        fb = float(f(b))
+        fb = _value(f, b)
     raise NoConvergence(f"brent_root: no convergence in {maxiter} iterations (bracket [{b!r}, {c!r}])")
 
 
