@@ -703,7 +703,9 @@ def test_tasks_are_each_taken_once_dearest_first_and_scenes_stay_in_one_process(
     assert state.take(tasks, 0) == 3          # bessel is scene 0's, process 1's: fig2 instead
     assert state.take(tasks, 1) == 2          # process 1 takes bessel itself
     assert state.take(tasks, 0) == 5          # equations is scene 0's; series (nobody's) is free
-    assert state.take(tasks, 0) == 4          # nothing else is left: it takes equations after all
+    # equations (lighter than SMALL) is left to process 1, which knows its scene: process 0 stops
+    assert state.take(tasks, 0) is None
+    assert state.take(tasks, 1) == 4
     assert state.take(tasks, 1) is None and state.take(tasks, 0) is None
     assert list(state.taken) == [1] * len(tasks)
 
