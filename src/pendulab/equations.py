@@ -10,7 +10,7 @@ from dataclasses import dataclass, replace
 import sympy as sp
 
 from pendulab import symbols as S
-from pendulab.systems import DrivenPivot, VariableLength
+from pendulab.systems import DrivenPivot, VariableLength, without_sine_squared
 from pendulab.errors import InputError
 
 
@@ -127,8 +127,7 @@ def newton_projection(mass=S.m):
     x, y = ell * sp.sin(th), ell * sp.cos(th)
     # d/dt of the velocities, which the kinetic energy formed (SymPy's cache): half the cost of diff(t, 2)
     ax, ay = x.diff(S.t).diff(S.t), y.diff(S.t).diff(S.t)
-    projected = sp.expand(ax * sp.cos(th) - ay * sp.sin(th) + S.g * sp.sin(th))
-    return sp.expand(projected.subs(sp.sin(th) ** 2, 1 - sp.cos(th) ** 2))
+    return without_sine_squared(ax * sp.cos(th) - ay * sp.sin(th) + S.g * sp.sin(th), th)
 
 
 def _derive_variable_length(system):

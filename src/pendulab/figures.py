@@ -73,6 +73,7 @@ SAVEFIG_RC = {"savefig.bbox": "standard", "savefig.transparent": False,
               "savefig.facecolor": "auto", "savefig.edgecolor": "auto"}
 
 
+@collector_paused
 def save(fig, dpi=150):
     """{".png": bytes, ".pdf": bytes} of ``fig`` (PNG at ``dpi``), no dates or versions inside.
 
@@ -80,13 +81,11 @@ def save(fig, dpi=150):
     renderer is also made on an Agg canvas at ``dpi``, whose pixels become the PNG.  A figure
     with something the PNG would need its own drawing for (an image, a collection, mathtext,
     rasterised parts) is drawn a second time for the PNG (:func:`png`).  Python's cyclic
-    garbage collector is paused meanwhile: matplotlib makes tens of thousands of short-lived
-    objects per figure, and each collection walks every object of the process (SymPy's too).
+    garbage collector is paused meanwhile (:func:`collector_paused`): matplotlib makes tens
+    of thousands of short-lived objects per figure, and each collection walks every object of
+    the process (SymPy's too).
     """
-    import gc
     import io
-    collecting = gc.isenabled()
-    gc.disable()
     # an axis with no label text: matplotlib would still place its (empty) label below or
     # beside the tick labels, measuring them once more; nothing of it is drawn
     unlabelled = [axis for ax in fig.axes for axis in (ax.xaxis, ax.yaxis)
@@ -103,8 +102,6 @@ def save(fig, dpi=150):
     finally:
         for axis in unlabelled:
             axis._autolabelpos = True
-        if collecting:
-            gc.enable()
 
 
 #: zlib level of the PNG files: 3 writes them in about two thirds of the time of Pillow's
@@ -169,8 +166,9 @@ class _DrawnTwice:
     linear in its dpi, and line widths, dashes and font sizes stay in points for both.  Only
     the texts' metrics differ: the layout (alignment, the legends' and labels' places) is the
     PDF's, so a text of the PNG may sit a few pixels (up to 3 in the products) from where a
-    drawing of its own would put it.  ``complete`` is False when the figure asked for something :class:`_Both` does not
-    draw on the canvas; the caller then draws the PNG by itself.
+    drawing of its own would put it.  ``complete`` is False when the figure asked for
+    something :class:`_Both` does not draw on the canvas; the caller then draws the PNG by
+    itself.
     """
 
     def __init__(self, fig, dpi):

@@ -276,6 +276,13 @@ class DrivenPivot:
 LENGTH_SCAN_END = 100
 
 
+def without_sine_squared(expr, angle):
+    """``expr`` multiplied out with sin^2(angle) = 1 - cos^2(angle) put in (the one identity
+    the variable length's Lagrangian and Newton projection need; SymPy's trigsimp and simplify
+    find the same expressions, many times slower)."""
+    return sp.expand(sp.expand(expr).subs(sp.sin(angle) ** 2, 1 - sp.cos(angle) ** 2))
+
+
 def _first_zero(length):
     t = S.t
     length = sp.expand(length)
@@ -415,9 +422,7 @@ class VariableLength:
     def lagrangian(self):
         """L = T - V with the length kept as the function L(t), multiplied out with
         sin^2 theta = 1 - cos^2 theta put in (all that trigsimp found here, at a sixth of its cost)."""
-        th = self.coordinate
-        expanded = sp.expand(self.kinetic_energy - self.potential_energy)
-        return sp.expand(expanded.subs(sp.sin(th) ** 2, 1 - sp.cos(th) ** 2))
+        return without_sine_squared(self.kinetic_energy - self.potential_energy, self.coordinate)
 
     @property
     def length_zero(self):

@@ -219,9 +219,13 @@ def _scaled_square(nu, shift, u, order):
     """
     import sympy as sp
     sq = _scaled_square_poly(nu, shift, order)
-    terms = [sp.Rational(int(c.numerator), int(c.denominator)) * sp.pi ** (m[1] - m[2]) * u ** m[0]
-             for m, c in sq.terms()]
-    return sp.expand(sp.Add(*terms))
+    return sp.expand(sp.Add(*(_coefficient(m, c) * u ** m[0] for m, c in sq.terms())))
+
+
+def _coefficient(monomial, c):
+    """The SymPy number c pi^(p - r) of a term c U^i P^p R^r of :func:`_square_ring` (P R = 1)."""
+    import sympy as sp
+    return sp.Rational(int(c.numerator), int(c.denominator)) * sp.pi ** (monomial[1] - monomial[2])
 
 
 def _in_k(poly, k, limit=True):
@@ -234,8 +238,7 @@ def _in_k(poly, k, limit=True):
     import sympy as sp
     by_power = {}
     for m, c in poly.terms():
-        term = sp.Rational(int(c.numerator), int(c.denominator)) * sp.pi ** (m[1] - m[2])
-        by_power.setdefault(2 - m[0], []).append(term)
+        by_power.setdefault(2 - m[0], []).append(_coefficient(m, c))
     expr = sp.Add(*(c * k ** p for p, cs in by_power.items() for c in cs))
     if not limit:
         return expr, None

@@ -865,8 +865,13 @@ def _branch_theta1(polys, x, target):
     real = [r.real for r in roots if abs(r.imag) <= 1e-9 * max(1.0, abs(r)) and r.real > 0]
     if not real:
         return None
+    return _polished(coeffs, min(real))
+
+
+def _polished(coeffs, t):
+    """The root t of the polynomial ``coeffs`` (lowest power first, t > 0) polished by Brent's
+    method in [t (1 - 1e-6), t (1 + 1e-6)] when the polynomial changes sign there; else t."""
     from pendulab.numerics.roots import brent_root
-    t = min(real)
     highest_first = coeffs[::-1].tolist()
 
     def f(s):
@@ -874,11 +879,11 @@ def _branch_theta1(polys, x, target):
 
     a, b = t * (1 - 1e-6), t * (1 + 1e-6)
     if f(a) * f(b) < 0:
-        t = brent_root(f, a, b, xtol=1e-16, maxiter=200)
+        return brent_root(f, a, b, xtol=1e-16, maxiter=200)
     return t
 
 
-#: Points of x per batch of :func:`_branch_scan` (the scan usually ends within the first few hundred).
+#: Points of x per batch of :func:`_branch_batches` (the scan usually ends within the first few hundred).
 SCAN_BATCH = 128
 
 
@@ -1031,15 +1036,7 @@ class _Root:
     def value(self):
         """The value of :func:`_branch_theta1` at this point (the polished root)."""
         if not self.polished:
-            highest_first = self.coeffs[::-1].tolist()
-
-            def f(s):
-                return _horner(highest_first, s)
-
-            a, b = self.lo, self.hi
-            if f(a) * f(b) < 0:
-                from pendulab.numerics.roots import brent_root
-                self.t = brent_root(f, a, b, xtol=1e-16, maxiter=200)
+            self.t = _polished(self.coeffs, self.t)  # in the bracket [lo, hi] of __init__
             self.lo = self.hi = self.t
             self.polished = True
         return self.t

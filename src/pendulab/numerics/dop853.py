@@ -54,32 +54,28 @@ def _tables():
     own package location, under its own name; where that file is not where
     this SciPy keeps it, the ordinary import is used.
     """
+    import importlib
     import importlib.util
+    import os
     import sys
     loaded = sys.modules.get(_TABLES) or sys.modules.get("_pendulab_" + _TABLES)
     if loaded is not None:
         return loaded
     spec = importlib.util.find_spec("scipy")
-    path = None
-    if spec is not None and spec.submodule_search_locations:
-        import os
-        for root in spec.submodule_search_locations:
-            candidate = os.path.join(root, "integrate", "_ivp", "dop853_coefficients.py")
-            if os.path.isfile(candidate):
-                path = candidate
-                break
-    if path is None:
-        import importlib
-        return importlib.import_module(_TABLES)
-    try:
-        mspec = importlib.util.spec_from_file_location("_pendulab_" + _TABLES, path)
-        module = importlib.util.module_from_spec(mspec)
-        mspec.loader.exec_module(module)
-    except Exception:  # a SciPy whose file needs its package after all: the ordinary import
-        import importlib
-        return importlib.import_module(_TABLES)
-    sys.modules["_pendulab_" + _TABLES] = module
-    return module
+    roots = (spec.submodule_search_locations or []) if spec is not None else []
+    for root in roots:
+        path = os.path.join(root, "integrate", "_ivp", "dop853_coefficients.py")
+        if not os.path.isfile(path):
+            continue
+        try:
+            mspec = importlib.util.spec_from_file_location("_pendulab_" + _TABLES, path)
+            module = importlib.util.module_from_spec(mspec)
+            mspec.loader.exec_module(module)
+        except Exception:  # a SciPy whose file needs its package after all
+            break
+        sys.modules["_pendulab_" + _TABLES] = module
+        return module
+    return importlib.import_module(_TABLES)
 
 
 def _lit(x):

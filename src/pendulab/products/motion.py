@@ -373,7 +373,7 @@ def _number(x):
 
 
 _RC = {"figure.figsize": (6.3, 4.2), "font.size": 9, "axes.titlesize": 9,
-       "legend.fontsize": 8, "pdf.compression": 6, "path.simplify": False}
+       "legend.fontsize": 8, "path.simplify": False}
 
 
 @collector_paused
