@@ -27,11 +27,11 @@ of every stage and product of each scene, computed one after another in one proc
 
 ``--issue-job`` times the job issue 10 measured (14 s idle, 25 s loaded) and
 set the target for (3 s on a 2-core machine): the scenes as they were
-committed when it was filed (commit FILED: kapitza-rod with equations,
+committed when it was filed (commit bd3f9c5: kapitza-rod with equations,
 series, floquet and stability, kapitza-point with equations and stability,
 variable-length with equations and quarter_periods), built by ours and by
-pendulab at FILED in alternating rounds.  The same scene files, not quite
-the same work: FILED's quarter_periods also checked the cross-product
+pendulab at bd3f9c5 in alternating rounds.  The same scene files, not quite
+the same work: bd3f9c5's quarter_periods also checked the cross-product
 identity at 160 points (about 0.5 s of CPU; now part of the bessel
 product's identities, which these scenes do not ask for), and its floquet
 product used Hill's determinant where ours proves its digits in arb balls;
