@@ -25,9 +25,9 @@ pure-Python loop is timed between the rounds to show how fast the machine was.
 serial path as well.  ``--breakdown`` prints instead the CPU time of the imports and
 of every stage and product of each scene, computed one after another in one process.
 
-``--issue-job`` times the job issue 10 measured (14 s idle, 25 s loaded) and
-set the target for (3 s on a 2-core machine): the scenes as they were
-committed when it was filed (commit bd3f9c5: kapitza-rod with equations,
+``--issue-job`` times the job issue 10 measured (14 s idle, 25 s loaded, when
+it asked for 3 s on a 2-core machine): the scenes as they were committed
+when it was filed (commit bd3f9c5: kapitza-rod with equations,
 series, floquet and stability, kapitza-point with equations and stability,
 variable-length with equations and quarter_periods), built by ours and by
 pendulab at bd3f9c5 in alternating rounds.  The same scene files, not quite
