@@ -93,6 +93,13 @@ def tree(root):
             if p.is_file() and not p.name.startswith(".")}
 
 
+def differing(root_a, root_b):
+    """(the files whose bytes differ between two output trees, sorted; how many files in all)."""
+    a, b = tree(root_a), tree(root_b)
+    names = set(a) | set(b)
+    return sorted(k for k in names if a.get(k) != b.get(k)), len(names)
+
+
 def baseline_source(into, commit=BASELINE, paths=("src",), quiet=False):
     """Extract ``paths`` (src/) of ``commit`` into ``into``; the path of its src/, or None
     when git cannot (saying so unless ``quiet``)."""
@@ -139,9 +146,8 @@ def issue_job(repeat, jobs=None):
               "the issue: 14 s idle)")
         print(f"ratio filed/ours: fastest/fastest wall {fwall / wall:.2f}x, CPU {fcpu / cpu:.2f}x; "
               f"round by round {min(ratios):.2f}-{max(ratios):.2f}x")
-        a, b = tree(tmp / "ours0"), tree(tmp / "filed0")
-        differ = sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
-        print(f"files that differ from {FILED}'s: {len(differ)} of {len(set(a) | set(b))} "
+        differ, total = differing(tmp / "ours0", tmp / "filed0")
+        print(f"files that differ from {FILED}'s: {len(differ)} of {total} "
               f"({', '.join(differ)}); the work differs too: {FILED}'s quarter_periods also checked "
               "J1 Y2 - J2 Y1 = -2/(pi z) at 160 points (30 digits; now the bessel product's "
               "identities), and its floquet product used Hill's determinant, not arb balls")
@@ -244,10 +250,9 @@ def main(argv=None):
             bwall, bcpu = min(w for w, _ in base), min(c for _, c in base)
             print(f"baseline: {bwall:6.2f} s wall, {bcpu:6.2f} s CPU  (pendulab at {BASELINE})")
             print(f"ratio baseline/ours: wall {bwall / wall:.2f}x, CPU {bcpu / cpu:.2f}x")
-            a, b = tree(tmp / "ours0"), tree(tmp / "base0")
-            differ = sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
+            differ, total = differing(tmp / "ours0", tmp / "base0")
             print(f"same bytes as the baseline: {'yes' if not differ else 'no'}"
-                  + (f" ({len(differ)} of {len(set(a) | set(b))} files differ: "
+                  + (f" ({len(differ)} of {total} files differ: "
                      f"{', '.join(differ[:8])}{' ...' if len(differ) > 8 else ''})" if differ else ""))
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
