@@ -48,6 +48,8 @@ def _up_to_date(directory, digest, source):
 
 def scene_paths(target):
     """The scene files named by ``target`` (a file, or a directory of *.toml)."""
+    if not isinstance(target, (str, os.PathLike)) or not str(target).strip():
+        raise InputError(f"name a scene file or a directory of them, got {target!r}")
     target = Path(target)
     if target.is_dir():
         paths = sorted(target.glob("*.toml"))
@@ -80,7 +82,27 @@ def check_out_root(out_root, what="output directory"):
         raise InputError(f"{what} {text}: {probe} is not a directory, so it cannot be created")
     if not os.access(probe, os.W_OK | os.X_OK):
         raise InputError(f"{what} {text}: {probe} is not writable")
+    name_max = _name_max(probe)
+    for part in root.parts:
+        if len(os.fsencode(part)) > name_max:
+            raise InputError(f"{what} {text}: the name {part[:20]}... is longer than "
+                             f"{name_max} bytes")
+    # os.access says yes to root in /proc or /sys, where nothing can be created: try it
+    # (a directory made and removed at once, in the nearest one that exists)
+    import tempfile
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix=".pendulab-probe-", dir=probe))
+    except OSError as exc:
+        raise InputError(f"{what} {text}: cannot create anything in {probe} "
+                         f"({exc.strerror or exc})") from None
     return root
+
+
+def _name_max(directory):
+    try:
+        return os.pathconf(directory, "PC_NAME_MAX")
+    except (OSError, ValueError, AttributeError):
+        return 255
 
 
 def source_name(path):

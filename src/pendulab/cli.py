@@ -182,6 +182,10 @@ def console(argv=None):
     import gc
     import os
     gc.set_threshold(*GC_THRESHOLDS)
+    # numbers in expressions have at most pendulab.exprs.MAX_NUMBER_DIGITS digits, but a
+    # derivation multiplies them (a series to order 12 of a drive with a 1000-digit amplitude)
+    # beyond the 4300 digits Python prints by default
+    sys.set_int_max_str_digits(0)
     status = main(argv)
     for stream in (sys.stdout, sys.stderr):
         try:

@@ -28,6 +28,7 @@ pendulab.errors.InputError: name '__import__' is not allowed (names may not star
 
 import ast
 import re
+import sys
 
 import sympy as sp
 
@@ -41,9 +42,13 @@ MAX_LENGTH = 4000
 MAX_DEPTH = 60
 #: Largest numeric exponent allowed (``t**(10**10)`` would hang the derivation).
 MAX_NUMERIC_EXPONENT = 1000
-#: Largest exact number (in bits) a power of numbers may produce
-#: (``((10**1000)**1000)**1000`` would otherwise hang the parser).
-MAX_NUMBER_BITS = 100_000
+#: Most decimal digits of an exact number in an expression (``1e5000``, ``10**5000`` and
+#: ``(10**1000)**5`` are refused): ``((10**1000)**1000)**1000`` or ``1e999999999`` would
+#: hang the parser.  (Python prints no integer of more than 4300 digits unless told to: the
+#: ``pendulab`` command is; :func:`dump_expr` and :func:`latex` say so in one line otherwise.)
+MAX_NUMBER_DIGITS = 1000
+#: The same bound in bits (numerator or denominator of a rational number).
+MAX_NUMBER_BITS = int(MAX_NUMBER_DIGITS * 3.3219280948873626) + 1
 #: Highest total derivative order accepted: the orders of nested
 #: ``Derivative(Derivative(f, (t, 20)), (t, 20))`` add up (40 here).
 MAX_DERIVATIVE_ORDER = 20
@@ -186,6 +191,25 @@ def _bits(x):
     return 0
 
 
+def _largest_bits(expr):
+    """Size in bits of the largest exact rational in ``expr`` (0 when there is none)."""
+    if isinstance(expr, sp.Rational):
+        return _bits(expr)
+    return max((_bits(a) for a in expr.atoms(sp.Rational)), default=0)
+
+
+def _check_size(value):
+    """``value``, or an InputError when a number in it has more than MAX_NUMBER_DIGITS digits."""
+    if _largest_bits(value) > MAX_NUMBER_BITS:
+        raise InputError(f"a number in the expression has more than {MAX_NUMBER_DIGITS} digits "
+                         "(numerator or denominator)")
+    return value
+
+
+#: A decimal literal's parts: digits (with a point) and exponent
+_DECIMAL = re.compile(r"([0-9_]*\.?[0-9_]*)(?:[eE]([+-]?[0-9_]+))?\Z")
+
+
 _FUNCTIONS = {
     "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "cot": sp.cot,
     "sec": sp.sec, "csc": sp.csc,
@@ -239,9 +263,17 @@ class _Builder:
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise InputError(f"constant {v!r} is not a number")
         if isinstance(v, int):
+            if v.bit_length() > MAX_NUMBER_BITS:
+                raise InputError(f"the number {str(self.source)[:20]}... has more than "
+                                 f"{MAX_NUMBER_DIGITS} digits")
             return sp.Integer(v)
-        text = ast.get_source_segment(self.source, node) or repr(v)
-        return sp.Rational(text.replace("_", ""))
+        text = (ast.get_source_segment(self.source, node) or repr(v)).replace("_", "")
+        found = _DECIMAL.match(text)
+        if found is None or (found.group(2) is not None
+                             and abs(int(found.group(2))) > MAX_NUMBER_DIGITS):
+            raise InputError(f"the number {text[:30]} is out of range (decimal exponents from "
+                             f"-{MAX_NUMBER_DIGITS} to {MAX_NUMBER_DIGITS})")
+        return _check_size(sp.Rational(text))
 
     def _Name(self, node, d):
         name = node.id
@@ -294,6 +326,7 @@ class _Builder:
                     value = value / factor
                 else:
                     value = value * factor
+                _check_size(value)
             return value
         x = self.build(node.left, d)
         y = self.build(node.right, d)
@@ -302,9 +335,11 @@ class _Builder:
         if isinstance(op, ast.Pow):
             if y.is_number and y.is_real and abs(y) > MAX_NUMERIC_EXPONENT:
                 raise InputError(f"numeric exponent {y} is too large (limit {MAX_NUMERIC_EXPONENT})")
-            if y.is_number and _bits(x) * abs(sp.re(y)) > MAX_NUMBER_BITS:
-                raise InputError(f"the power {sp.sstr(x)[:20]}**{y} is too large a number "
-                                 f"(limit {MAX_NUMBER_BITS} bits)")
+            if y.is_number and _largest_bits(x) * abs(sp.re(y)) > MAX_NUMBER_BITS:
+                base = ast.get_source_segment(self.source, node.left) or sp.sstr(x)
+                base = base if re.fullmatch(r"[\w.]+", base) else f"({base})"
+                raise InputError(f"the power {base[:30]}**{y} is too large a number (more than "
+                                 f"{MAX_NUMBER_DIGITS} digits)")
             if x == 0 and y.is_number and y.is_negative:
                 raise InputError(f"division by zero in expression (0**{y})")
             return x ** y
@@ -328,6 +363,9 @@ class _Builder:
             raise InputError(f"{_describe(node.func)} is not allowed in an expression")
         name = node.func.id
         _check_name(name)
+        if name in NOT_EXPRESSIONS and name not in _FUNCTIONS:  # said before its arguments are read
+            raise InputError(f"{name}(...) is not allowed: {NOT_EXPRESSIONS[name]}, not an "
+                             "expression")
         args = []
         for a in node.args:
             if name == "Derivative" and args and isinstance(a, ast.Tuple):
@@ -340,6 +378,8 @@ class _Builder:
         if name in _FUNCTIONS:
             if name == "Rational" and len(args) == 2 and args[1] == 0:
                 raise InputError(f"division by zero in {text}")
+            if name == "Integer" and not (len(args) == 1 and args[0].is_Integer):
+                raise InputError(f"{text}: Integer takes one whole number")
             try:
                 value = _FUNCTIONS[name](*args)
             except InputError:
@@ -385,6 +425,11 @@ def parse(text, namespace=None, *, functions=True):
     """
     if not isinstance(text, str):
         raise InputError(f"expected an expression as text, got {type(text).__name__}")
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:  # bytes of a command line that are not UTF-8 (surrogate escapes)
+        raise InputError(f"expression {text.encode('utf-8', 'replace').decode()[:40]!r} has bytes "
+                         "that are not UTF-8 text") from None
     if not text.strip():
         raise InputError("empty expression")
     if len(text) > MAX_LENGTH:
@@ -405,6 +450,10 @@ def parse(text, namespace=None, *, functions=True):
         raise InputError(f"expression is nested too deeply (limit {MAX_DEPTH} levels)") from None
     if not isinstance(value, sp.Expr) or isinstance(value, sp.Tuple):
         raise InputError(f"{text.strip()[:40]!r} is not an expression")
+    _check_size(value)
+    if value.has(sp.I):
+        raise InputError(f"expression {text.strip()[:40]!r} is not real (it has the imaginary "
+                         "unit: a square root or logarithm of a negative number?)")
     if _not_finite(value):
         raise InputError(f"expression is not finite: {sp.sstr(value)[:40]} (zoo is 1/0: "
                          "a division by zero)")
@@ -412,9 +461,21 @@ def parse(text, namespace=None, *, functions=True):
     return value
 
 
+def _printed(printer, expr, **settings):
+    try:
+        return printer(expr, **settings)
+    except ValueError as exc:
+        if "int_max_str_digits" not in str(exc):
+            raise
+        raise InputError("a number in the result has more than "
+                         f"{sys.get_int_max_str_digits()} digits, more than Python prints by "
+                         "default (sys.set_int_max_str_digits; the pendulab command lifts "
+                         "the limit)") from None
+
+
 def dump_expr(expr):
     """Deterministic text of ``expr`` (SymPy's StrPrinter) that :func:`load_expr` reads back."""
-    return sp.sstr(expr, order=None)
+    return _printed(sp.sstr, expr, order=None)
 
 
 def load_expr(text):
@@ -428,7 +489,7 @@ def load_expr(text):
 
 def latex(expr, **settings):
     """LaTeX of ``expr`` with pendulab's symbol names (``theta0`` -> ``\\theta_{0}``)."""
-    return sp.latex(expr, **settings)
+    return _printed(sp.latex, expr, **settings)
 
 
 # ---------------------------------------------------------------------------

@@ -299,6 +299,8 @@ def check(name, value, label=None):
     name, for a scene's problem that already names the key).  The message is
     one line: ``<label> must be an integer from 1 to 60, got 0``.
     """
+    if name not in LIMITS:
+        raise InputError(f"no limit named {name!r} (see pendulab.limits.LIMITS)")
     kind, low, high, _default, _help = LIMITS[name]
     label = name if label is None else label
     label = label + " " if label else ""
@@ -409,7 +411,7 @@ def stability_seconds(points, methods):
         if not isinstance(method, str):
             continue
         kind, _, order = method.partition(":")
-        n = int(order) if order.isdigit() else 0
+        n = int(order) if order.isascii() and order.isdigit() else 0
         if kind == "series":
             per_point += 0.005 + 0.0025 * n ** 1.4
         elif kind == "integer-series":

@@ -27,6 +27,7 @@ and the key (:class:`pendulab.errors.SceneError`).  Expressions are parsed by
 
 import math
 import re
+import os
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -110,6 +111,9 @@ def _check_values(data, problems):
             continue
         if isinstance(value, dict):
             for key, item in value.items():
+                if not isinstance(key, str):  # a table given from Python, not read from TOML
+                    raise SceneError(problems.path, where or None,
+                                     f"keys are names (strings); got {key!r}")
                 stack.append((item, f"{where}.{key}" if where else str(key), depth + 1))
         elif isinstance(value, list):
             for i, item in enumerate(value):
@@ -354,6 +358,8 @@ def _values(table, system, problems):
 
 def load_scene(path):
     """Read and validate the scene file at ``path``."""
+    if not isinstance(path, (str, os.PathLike)) or not str(path).strip():
+        raise InputError(f"a scene file is named by a non-empty path, got {path!r}")
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -364,7 +370,12 @@ def load_scene(path):
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SceneError(path, None, f"not valid TOML: {exc}") from None
+        hint = " (the file starts with a byte-order mark: save it as UTF-8 without one)" \
+            if text.startswith("\ufeff") else ""
+        raise SceneError(path, None, f"not valid TOML: {exc}{hint}") from None
+    except ValueError as exc:  # an integer of more than 4300 digits (Python's int() limit)
+        raise SceneError(path, None, f"not valid here: {exc} (a scene's numbers are far "
+                                     "smaller)") from None
     except (RecursionError, MemoryError):
         raise SceneError(path, None, "not valid TOML here: nested too deeply "
                                      f"(a scene needs at most {MAX_NESTING} levels)") from None

@@ -257,7 +257,7 @@ def mathieu_series(order):
 # =====================================================================================
 
 def _parse_kind(kind):
-    if not isinstance(kind, str) or len(kind) < 2 or kind[0] not in "ab" or not kind[1:].isdigit():
+    if not isinstance(kind, str) or len(kind) < 2 or kind[0] not in "ab" or not (kind[1:].isascii() and kind[1:].isdigit()):
         raise InputError(f"kind must be 'a<m>' (m >= 0) or 'b<m>' (m >= 1), e.g. 'a0' or 'b1'; got {kind!r}")
     letter, m = kind[0], int(kind[1:])
     if letter == "b" and m == 0:

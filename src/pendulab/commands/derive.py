@@ -42,6 +42,36 @@ def _formats(p):
 
 
 def run(args):
+    from pendulab.errors import InputError, SceneError
+    try:
+        return _run(args)
+    except SceneError as exc:
+        # the scene this command made of its options: its keys named as the options
+        raise InputError(_as_options(str(exc))) from None
+
+
+#: the scene keys of ``pendulab derive`` and the options that give them
+_OPTION_OF = {"parameters.drive": "--drive", "parameters.body": "--body",
+              "parameters.angle": "--angle", "parameters.inertia": "--inertia",
+              "parameters.length": "--length", "parameters.mass": "--mass"}
+
+
+def _as_options(message):
+    """``message`` with "command line: parameters.drive:" written "--drive:" (line by line)."""
+    lines = []
+    for line in message.splitlines():
+        head = "command line: "
+        if line.startswith(head):
+            line = line[len(head):]
+            for key, option in _OPTION_OF.items():
+                if line.startswith(key + ":") or line.startswith(key + "."):
+                    line = option + line[len(key):]
+                    break
+        lines.append(line)
+    return "\n".join(lines)
+
+
+def _run(args):
     import sys
     from pendulab.scene import parse_scene
     from pendulab.pipeline import Context

@@ -156,7 +156,9 @@ def _param_columns(spec, fos):
     if extra:
         raise InputError(f"the sweep sets a_over_l and w0_over_w"
                          f"{' and inertia_ratio' if spec.inertia_ratio is not None else ''}; "
-                         f"this system also has {', '.join(extra)} (give a number for them in the scene)")
+                         f"the drive leaves {', '.join(extra)} without a value (a sweep's cells "
+                         "differ only in those two; write the drive's amplitude with a and its "
+                         "frequency with omega, as in a*cos(omega*t) + a*cos(2*omega*t))")
     if spec.inertia_ratio is None and spec.body == "explicit" and "inertia_ratio" in names:
         raise InputError("an explicit body with the symbol I needs inertia_ratio")
     return names

@@ -1,0 +1,158 @@
+"""Inputs an audit of issue 10 (2026-12-03) found giving a traceback, hanging or a wrong message.
+
+Each case must now give one ``pendulab: error:`` line with exit status 2 (command line) or a
+PendulabError (API), naming what is wrong; the accepted neighbours of each case still work.
+The numbers of digits come from Python's own limit (4300 digits per int-to-text conversion,
+sys.get_int_max_str_digits) and pendulab.exprs.MAX_NUMBER_DIGITS.
+"""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import sympy as sp
+
+from pendulab import limits
+from pendulab.build import build, check_out_root
+from pendulab.cli import main
+from pendulab.errors import InputError, PendulabError
+from pendulab.exprs import MAX_NUMBER_DIGITS, dump_expr, parse
+from pendulab.scene import load_scene, parse_scene
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _one_error(capsys, argv):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("pendulab: error: "), err
+    return err[0]
+
+
+@pytest.mark.parametrize("drive, what", [
+    ("a*cos(omega*t) + 1e5000", "out of range"),
+    ("a*cos(omega*t) + 1e999999999", "out of range"),  # hung in sympy.Rational before
+    ("a*cos(omega*t)*1e-999999", "out of range"),
+    ("a*cos(omega*t)" + "*(10**400)" * 5, "more than"),  # a product, not a power, of numbers
+    ("a*cos(omega*t)*(10**600)**2", "too large"),
+    ("a*cos(omega*t)*(10**400*a)**3", "too large"),  # a number inside the base
+])
+def test_numbers_beyond_the_digit_limit_are_refused(drive, what, capsys):
+    line = _one_error(capsys, ["derive", "kapitza", "--drive", drive])
+    assert what in line and "--drive" in line and str(MAX_NUMBER_DIGITS) in line
+
+
+def test_numbers_within_the_limit_derive_and_print_whole(capsys):
+    # 10**999 has 1000 digits; squared in the Lagrangian (the drive's rate squared) it passes
+    # Python's 4300-digit printing limit only when the command lifts it, as it does
+    code = ("import sys; from pendulab.cli import console; "
+            "console(['derive', 'kapitza', '--drive', 'a*cos(omega*t)*1e999', '--json'])")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert "1" + "0" * 999 in out.stdout and "Traceback" not in out.stderr
+
+
+def test_printing_beyond_pythons_limit_is_one_line_in_the_api():
+    before = sys.get_int_max_str_digits()
+    sys.set_int_max_str_digits(4300)
+    try:
+        big = sp.Integer(10) ** 5000  # built directly, as a derivation could
+        with pytest.raises(InputError, match="more than 4300 digits"):
+            dump_expr(big * sp.Symbol("x"))
+    finally:
+        sys.set_int_max_str_digits(before)
+
+
+@pytest.mark.parametrize("argv", [
+    ["stability", "--ratio", "0.05", "--method", "series:\u00b3"],  # superscript three
+    ["stability", "--ratio", "0.05", "--method", "integer-series:\u00b2"],
+    ["stability", "--ratio", "0.05", "--method", "series:\u0663"],  # Arabic-Indic three
+    ["series", "--order", "3", "--kind", "b\u00b2"],
+])
+def test_digits_other_than_ascii_are_not_orders(argv, capsys):
+    line = _one_error(capsys, argv)
+    assert "order" in line or "kind" in line
+
+
+def test_undecodable_bytes_on_the_command_line():
+    # a byte that is not UTF-8 reaches Python as a surrogate escape; the command says so
+    drive = b"a*cos(omega*t)\xff"
+    code = "from pendulab.cli import console; import sys; console(sys.argv[1:])"
+    out = subprocess.run([sys.executable, "-c", code, "derive", "kapitza", "--drive", drive],
+                         capture_output=True, timeout=120)
+    err = out.stderr.decode("utf-8", "replace").strip().splitlines()
+    assert out.returncode == 2 and len(err) == 1 and "not UTF-8" in err[0], err
+
+
+def test_huge_integer_in_a_scene_file(tmp_path, capsys):
+    scene = tmp_path / "big.toml"
+    scene.write_text('system = "kapitza"\n[products.series]\norder = 1' + "0" * 5000 + "\n")
+    line = _one_error(capsys, ["build", str(scene), "--out", str(tmp_path / "out")])
+    assert "big.toml" in line and "4300" in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_byte_order_mark_is_named(tmp_path, capsys):
+    scene = tmp_path / "bom.toml"
+    scene.write_text('\ufeffsystem = "kapitza"\n[products.equations]\n', encoding="utf-8")
+    line = _one_error(capsys, ["build", str(scene), "--out", str(tmp_path / "out")])
+    assert "byte-order mark" in line
+
+
+@pytest.mark.parametrize("text, what", [
+    ("Piecewise((a, t > 0), (0, True))*cos(omega*t)", "Piecewise"),
+    ("sqrt(-1)*a*cos(omega*t)", "not real"),
+    ("a*cos(omega*t)*log(-2)", "not real"),
+    ("Integer(1.5)*a*cos(omega*t)", "whole number"),
+])
+def test_expressions_refused_for_their_real_cause(text, what):
+    with pytest.raises(InputError, match=what):
+        parse(text)
+
+
+def test_integer_of_a_whole_number_still_works():
+    assert parse("Integer(3)*a") == 3 * parse("a")
+
+
+@pytest.mark.parametrize("call", [
+    lambda: parse_scene({1: 2, "system": "kapitza", "products": {"equations": {}}}),
+    lambda: parse_scene({"system": "kapitza", "products": {"equations": {3: 1}}}),
+    lambda: load_scene(None),
+    lambda: load_scene(""),
+    lambda: build(None, "/nonexistent-never-written"),
+    lambda: limits.check("no-such-limit", 5),
+])
+def test_api_calls_raise_pendulab_errors(call):
+    with pytest.raises(PendulabError):
+        call()
+
+
+def test_empty_scene_path_is_refused(tmp_path, capsys):
+    line = _one_error(capsys, ["build", "", "--out", str(tmp_path / "out")])
+    assert "scene" in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_out_names_longer_than_the_file_system_allows(tmp_path):
+    with pytest.raises(InputError, match="longer than"):
+        check_out_root(tmp_path / ("x" * 300))
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc")
+def test_out_where_nothing_can_be_created_is_refused_before_work(capsys):
+    # os.access answers yes for /proc as root; the check tries to create something there
+    line = _one_error(capsys, ["build", str(ROOT / "derivations" / "kapitza-point.toml"),
+                               "--out", "/proc/pendulab-cannot-be-here"])
+    assert "cannot create" in line or "not writable" in line
+
+
+def test_derive_names_its_options_not_scene_keys(capsys):
+    line = _one_error(capsys, ["derive", "kapitza", "--drive", "a*cos(omega*t) + 1e5000"])
+    assert "--drive:" in line and "parameters.drive" not in line and "command line" not in line
+
+
+def test_sweep_says_how_to_write_the_drive(capsys):
+    line = _one_error(capsys, ["sweep", "--drive", "b*cos(omega*t)", "--grid", "2"])
+    assert "b, l" in line and "amplitude with a" in line and "scene" not in line
