@@ -87,11 +87,13 @@ def check_out_root(out_root, what="output directory"):
         if len(os.fsencode(part)) > name_max:
             raise InputError(f"{what} {text}: the name {part[:20]}... is longer than "
                              f"{name_max} bytes")
-    # os.access says yes to root in /proc or /sys, where nothing can be created: try it
-    # (a directory made and removed at once, in the nearest one that exists)
+    # os.access says yes to root in /proc or /sys, where nothing can be created: try it, with
+    # a file that has no name (O_TMPFILE on Linux; elsewhere one unlinked as it is made), so
+    # that a build killed here leaves nothing in the directory
     import tempfile
     try:
-        os.rmdir(tempfile.mkdtemp(prefix=".pendulab-probe-", dir=probe))
+        with tempfile.TemporaryFile(dir=probe):
+            pass
     except OSError as exc:
         raise InputError(f"{what} {text}: cannot create anything in {probe} "
                          f"({exc.strerror or exc})") from None
