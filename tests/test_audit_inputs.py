@@ -156,3 +156,19 @@ def test_derive_names_its_options_not_scene_keys(capsys):
 def test_sweep_says_how_to_write_the_drive(capsys):
     line = _one_error(capsys, ["sweep", "--drive", "b*cos(omega*t)", "--grid", "2"])
     assert "b, l" in line and "amplitude with a" in line and "scene" not in line
+
+
+def test_work_refusals_suggest_only_what_would_change():
+    from pendulab.products.experiments import OPTIONS
+    options = {key: default for key, (_, default, _) in OPTIONS.items()}
+    options.update(grid=400, backend="c", prune=True)
+    problem = limits.work_problem("experiments", options)
+    assert problem and "backend" in problem and 'backend = "c"' not in problem
+    assert "prune = true" not in problem and "smaller grid" in problem
+    points = [[str(-2000000 + k), "1000000"] for k in range(100)]
+    problem = limits.work_problem("floquet", {"points": points, "ratios": [], "dps": 30,
+                                              "method": "hill"})
+    assert problem and "method 'hill'" not in problem and "fewer points" in problem
+    problem = limits.work_problem("floquet", {"points": points[:1], "ratios": [], "dps": 1000,
+                                              "method": "monodromy"})
+    assert problem and "method 'hill'" in problem

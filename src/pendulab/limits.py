@@ -497,10 +497,12 @@ def work_problem(product, options, what="the points and ratios asked", drive_per
             return None
         if seconds <= WORK_BUDGET_SECONDS:
             return None
+        ways = ["a smaller grid", "fewer periods or steps", "fewer maps"]
+        ways += [] if options.get("prune") else ["prune = true"]
+        ways += [] if options.get("backend") == "c" else ['backend = "c"']
         return (f"these maps would take about {seconds:.0f} s of RK4 by the cost model of "
                 f"pendulab.limits (limit {WORK_BUDGET_SECONDS} s with backend "
-                f"{options.get('backend')!r}): ask for a smaller grid, fewer periods or steps, "
-                "fewer maps, prune = true or backend = \"c\"")
+                f"{options.get('backend')!r}): ask for {', '.join(ways[:-1])} or {ways[-1]}")
     if product == "stability":
         points, methods = options.get("points"), options.get("methods")
         if not isinstance(points, int) or not isinstance(methods, list):
@@ -528,10 +530,11 @@ def work_problem(product, options, what="the points and ratios asked", drive_per
     seconds = floquet_seconds(points, ratios, dps, options.get("method", "hill"))
     if seconds <= WORK_BUDGET_SECONDS:
         return None
-    fewer = "fewer points or ratios, " if len(points) + len(ratios) > 1 else ""
+    ways = ["fewer points or ratios"] if len(points) + len(ratios) > 1 else []
+    ways += ["a lower dps", "a smaller |theta0| + 2|theta1|"]
+    ways += [] if options.get("method", "hill") == "hill" else ["method 'hill'"]
     return (f"{what} would take about {seconds:.1f} s by the cost model of pendulab.limits "
-            f"(limit {WORK_BUDGET_SECONDS} s): ask for {fewer}a lower dps, a smaller "
-            "|theta0| + 2|theta1| or method 'hill'")
+            f"(limit {WORK_BUDGET_SECONDS} s): ask for {', '.join(ways[:-1])} or {ways[-1]}")
 
 
 # ---------------------------------------------------------------------------
