@@ -139,14 +139,49 @@ def length_function(length, values):
     return _LENGTH_FUNCTIONS[key]
 
 
-def length_zero_time(length, values, horizon=None):
-    """The first t > 0 with L(t) = 0 (a float), or None if L stays positive.
+def _safe(fn):
+    """``fn`` returning NaN where L is not a real number (math's domain errors: sqrt(1 - t)
+    past t = 1) or overflows."""
+    def value(x):
+        try:
+            return float(fn(x))
+        except (ValueError, OverflowError, ZeroDivisionError, TypeError):
+            return math.nan
+    return value
 
-    Exact for a polynomial L(t) (real roots of the polynomial); for any other
-    length the interval (0, ``horizon``] is scanned on 4096 points and the
-    first sign change refined by Brent's method (pendulab.numerics.roots), so a
-    zero the scan steps over is left to the integrator's event.
-    """
+
+def _positive(expr, x, v):
+    """Whether L(x) > 0, from its float ``v``; a float 0.0 (or one below the smallest normal
+    double) is decided again from the expression at 30 digits, where exp(-745.4) is not 0:
+    underflow is not a zero."""
+    if v > 2.3e-308 or v < 0 or v != v:
+        return v > 0
+    exact = sp.sympify(expr).evalf(30, subs={S.t: sp.Float(repr(float(x)), 30)})
+    return bool(exact.is_real and exact > 0)
+
+
+#: samples of (0, horizon] scanned by :func:`length_zero_time` and :func:`length_floor_time`
+SCAN_POINTS = 4096
+
+
+def _scan(length, values, horizon):
+    """The first sample of (0, ``horizon``] where L is not positive: (t_prev, t, value at t)
+    with L(t_prev) > 0, or None; L at t = 0 must be positive."""
+    fn, expr = length_function(length, values)
+    fn = _safe(fn)
+    grid = np.linspace(0.0, float(horizon), SCAN_POINTS + 1)
+    for j in range(1, grid.size):
+        v = fn(grid[j])
+        if not _positive(expr, grid[j], v):
+            return fn, expr, grid[j - 1], grid[j], v
+    return None
+
+
+def _length_event(length, values, horizon):
+    """(kind, t) of the first t in (0, ``horizon``] where L(t) stops being a positive real:
+    kind "zero" (a sign change through 0, or a zero of the expression), "singular" (a sign
+    change through a pole, 1 + tan(t) at pi/2, or L not real past t) - or None.
+    Exact (real roots) for a polynomial L(t), whatever the horizon."""
     fn, expr = length_function(length, values)
     if expr.is_polynomial(S.t):
         poly = sp.Poly(expr, S.t)
@@ -154,17 +189,118 @@ def length_zero_time(length, values, horizon=None):
             return None
         roots = [complex(r) for r in np.roots([float(c) for c in poly.all_coeffs()])]
         positive = sorted(r.real for r in roots if abs(r.imag) <= 1e-12 * max(1, abs(r)) and r.real > 0)
-        return positive[0] if positive else None
+        return ("zero", positive[0]) if positive else None
     if horizon is None:
         return None
     from pendulab.numerics.roots import brent_root
-    grid = np.linspace(0.0, float(horizon), 4097)
-    vals = np.array([fn(x) for x in grid])
-    below = np.nonzero(vals <= 0)[0]
-    if below.size == 0:
+    found = _scan(length, values, horizon)
+    if found is None:
         return None
-    j = below[0]
-    return brent_root(fn, grid[j - 1], grid[j], xtol=1e-14, rtol=1e-15) if j > 0 else 0.0
+    fn, expr, lo, hi, v = found
+    scale = abs(fn(0.0))
+    if v == v and v <= 0:  # a change of sign (or an exact zero): a zero, or a pole between
+        root = hi if v == 0 else brent_root(fn, lo, hi, xtol=1e-14, rtol=1e-15)
+        near = fn(root)
+        if abs(near) <= 1e-6 * scale or min(abs(fn(lo)), abs(fn(hi))) <= 1e-3 * scale:
+            return "zero", root
+        return "singular", root
+    # L is not a real number at hi (a domain error, a complex value): bisect for the edge
+    for _ in range(200):
+        mid = (lo + hi) / 2
+        if not lo < mid < hi:
+            break
+        if _positive(expr, mid, fn(mid)):
+            lo = mid
+        else:
+            hi = mid
+    return ("zero" if abs(fn(lo)) <= 1e-6 * scale else "singular"), hi
+
+
+def length_zero_time(length, values, horizon=None):
+    """The first t > 0 with L(t) = 0 (a float), or None if L stays positive.
+
+    Exact for a polynomial L(t) (real roots of the polynomial); for any other
+    length the interval (0, ``horizon``] is scanned on 4096 points and the
+    first sign change refined by Brent's method (pendulab.numerics.roots), so a
+    zero the scan steps over is left to the integrator's event.  A sample is
+    "not positive" only by the sign of L: a float that underflowed to 0
+    (exp(-k t) past k t = 745) is evaluated again at 30 digits, where it is
+    positive; and a sign change through a pole (1 + tan(t) at pi/2) is not a
+    zero (:func:`length_check` names it).
+    """
+    found = _length_event(length, values, horizon)
+    return found[1] if found is not None and found[0] == "zero" else None
+
+
+def length_floor_time(length, values, horizon, floor=None):
+    """The first t in (0, ``horizon``] with L(t) <= ``floor`` L(0) (default
+    :data:`LENGTH_FLOOR`), a float, or None.
+
+    The interval is scanned on 4096 points; besides the first sample below
+    the floor, the dips of L between samples (a strict local minimum of the
+    samples below 1e-3 L(0): 1 + sin(t) touching 0) are refined by Brent's
+    minimiser, so a length that only touches the floor between samples is found.
+    """
+    from pendulab.numerics.roots import brent_minimum, brent_root
+    floor = LENGTH_FLOOR if floor is None else floor
+    fn, _ = length_function(length, values)
+    fn = _safe(fn)
+    l0 = fn(0.0)
+    level = floor * l0
+    grid = np.linspace(0.0, float(horizon), SCAN_POINTS + 1)
+    vals = np.array([fn(x) for x in grid])
+    low = ~(vals > level)
+    low[0] = False
+    first = int(np.argmax(low)) if low.any() else None
+    dips = np.nonzero((vals[1:-1] < vals[:-2]) & (vals[1:-1] <= vals[2:])
+                      & (vals[1:-1] < 1e-3 * l0))[0] + 1
+    for j in dips[:64]:
+        if first is not None and j >= first:
+            break
+        x, fx = brent_minimum(fn, grid[j - 1], grid[j + 1], xatol=1e-12 * max(1.0, grid[j]))
+        if fx <= level:
+            return brent_root(lambda u: fn(u) - level, grid[j - 1], x, xtol=1e-14, rtol=1e-15)
+    if first is None:
+        return None
+    g = lambda u: fn(u) - level if fn(u) == fn(u) else -1.0  # noqa: E731 (NaN: below)
+    return brent_root(g, grid[first - 1], grid[first], xtol=1e-14, rtol=1e-15)
+
+
+def length_check(length, values, horizon, *, t_end, why=""):
+    """Refuse, before anything is integrated, a length that reaches 0, passes a pole or
+    falls to :data:`LENGTH_FLOOR` L(0) in (0, ``horizon``] (``horizon`` >= ``t_end``:
+    the Floquet verdict of a periodic L(t) integrates one whole period).
+
+    Raises :class:`LengthReachesZeroError` (one line, with the time) or returns
+    the first zero of L(t) (a float, possibly beyond ``horizon`` for a
+    polynomial) or None.  ``why`` is added to the message when the time lies
+    beyond ``t_end`` (what integrates up to ``horizon``).
+    """
+    used = {k: values[k] for k in sorted(values)}
+    found = _length_event(length, values, horizon)
+
+    def tail(when, where=", where the equation divides by L"):
+        if when <= t_end:
+            return (f"t_end = {t_end:.12g} lies at or beyond it{where}: "
+                    f"integrate to t_end < {when:.12g}")
+        return f"t_end = {t_end:.12g} is before it, but {why}"
+
+    if found is not None and found[1] <= horizon:
+        kind, when = found
+        if kind == "zero":
+            head = f"L(t) = {length} reaches 0 at t = {when:.12g} (values {used}); "
+        else:
+            head = (f"L(t) = {length} is not a finite positive length at t = {when:.12g} (a pole, or "
+                    f"the end of its real values; values {used}); ")
+        raise LengthReachesZeroError(head + tail(when) if kind == "zero" else
+                                     head + tail(when, ", where L is not finite"), when)
+    short = length_floor_time(length, values, horizon)
+    if short is not None:
+        raise LengthReachesZeroError(
+            f"L(t) = {length} falls to {LENGTH_FLOOR:g} L(0) at t = {short:.12g} (values {used}): "
+            f"too short, relative to L(0), for the integration to go "
+            f"on; " + tail(short, ""), short)
+    return None if found is None else found[1]
 
 
 # ---------------------------------------------------------------------------
@@ -271,8 +407,9 @@ def integrate(fos, length, values, t_end, theta_0, *, dtheta_0=0.0, linear=False
     if found[0][0]:
         te = float(found[0][0][0])
         raise LengthReachesZeroError(
-            f"L(t) = {length} falls to {LENGTH_FLOOR:g} L(0) at t = {te:.12g} (values {used}): the "
-            f"string has no length left before t_end = {t_end:.12g}; integrate to t_end < {te:.12g}", te)
+            f"L(t) = {length} falls to {LENGTH_FLOOR:g} L(0) at t = {te:.12g} (values {used}): too "
+            f"short, relative to L(0), for the integration to go on before t_end = {t_end:.12g}; "
+            f"integrate to t_end < {te:.12g}", te)
     y = np.array([ya, yb], dtype=float).reshape(2, -1)
     if not np.all(np.isfinite(y)):
         raise ConvergenceError(f"DOP853 did not reach t_end = {t_end:.12g}: a state is no longer finite")

@@ -240,13 +240,21 @@ def document(ctx, options, keep):
     length = system.length
     fos = length_system(ctx.get("equations"))
     values = _numbers(fos, length, options)
+    horizon, why = options["t_end"], ""
     if fos.period is not None:
         # a periodic L(t): its own periods count too (pendulab.limits.MOTION_MAX_PERIODS)
         period = float(vm.substitute(fos.period, values))
         work = limits.work_problem("motion", options, drive_period=period)
         if work:
             raise InputError(work)
-    zero = vm.length_zero_time(length, values, horizon=options["t_end"])
+        # the Floquet verdict integrates one whole period, whatever t_end is; and an L(t) that
+        # stays positive over one period stays positive for ever: the period is what is scanned
+        horizon = period if 0 < period < math.inf else horizon
+        why = (f"the Floquet verdict integrates 002 eq. 4 over a whole period T = {period:.12g} "
+               "of L(t)")
+    # before anything is integrated: a zero of L(t), a pole, or L down to 1e-6 L(0) within the
+    # times integrated is refused with its time (a polynomial's zero beyond them is returned)
+    zero = vm.length_check(length, values, horizon, t_end=options["t_end"], why=why)
     doc = {
         "scene": ctx.scene.name,
         "length": dump_expr(length),
