@@ -15,7 +15,6 @@ length L(t), angle from the downward vertical (002, "Dedução").
 """
 
 from dataclasses import dataclass, field
-from functools import lru_cache
 
 import sympy as sp
 
@@ -284,196 +283,7 @@ def without_sine_squared(expr, angle):
     return sp.expand(sp.expand(expr).subs(sp.sin(angle) ** 2, 1 - sp.cos(angle) ** 2))
 
 
-#: Largest L(t) (nodes, :func:`pendulab.exprs.size`) whose zeros and poles SymPy's solve is
-#: asked for on every derive: the lengths people write (L0*cos(omega*t), L0*(2 - exp(t)),
-#: L0 - a*t**3) have 5 to 20 nodes, and solve's cost grows quickly with the size.
-SOLVE_MAX_SIZE = 40
-
-_UNKNOWN = object()  # the symbolic search cannot decide (the scan below may)
-
-_TRIG = (sp.sin, sp.cos, sp.tan, sp.cot, sp.sec, sp.csc)
-
-
-def _first_positive(roots, period):
-    """[(root, certain)] of the roots that are (or may be) the first positive ones; _UNKNOWN
-    when a root cannot be told real or reduced modulo ``period``."""
-    out = []
-    for root in roots:
-        if root.has(sp.I) or root.is_real is False:
-            continue  # complex under positive parameters: not a time
-        if period is not None:
-            ratio = sp.simplify(root / period)
-            if not ratio.is_number or not ratio.is_real:
-                return _UNKNOWN
-            root = sp.simplify(root - period * sp.floor(ratio))  # the first at or after t = 0
-            if root == 0:
-                continue
-        if root.is_positive:
-            out.append((root, True))
-        elif root.is_positive is None:
-            out.append((root, False))
-    return out
-
-
-def _solve_first(expr, period):
-    t = S.t
-    try:
-        roots = sp.solve(expr, t)
-    except (NotImplementedError, ValueError, TypeError):
-        return _UNKNOWN
-    if not isinstance(roots, list) or any(isinstance(r, (dict, tuple)) for r in roots):
-        return _UNKNOWN
-    return _first_positive(roots, period)
-
-
-def _earliest(found):
-    """The earliest of [(time, certain, kind)], _UNKNOWN when SymPy cannot order them."""
-    best = None
-    for item in found:
-        if best is None:
-            best = item
-            continue
-        later = sp.simplify(best[0] - item[0])
-        if later.is_positive:
-            best = item
-        elif later.is_nonpositive is not True:
-            if best[0].is_number and item[0].is_number:
-                best = item if float(item[0]) < float(best[0]) else best
-            else:
-                return _UNKNOWN
-    return best
-
-
-def _symbolic_end(length):
-    """(t, certain, kind) of the first zero or singularity of L(t) by SymPy's solve, None when
-    it has none, _UNKNOWN when solve cannot tell.
-
-    The parameters are taken positive (``certain`` is False when a symbol had to be:
-    the time is then the first only "when that is positive").  Positive factors
-    (L0, exp(-k t)) are taken out; each other factor's zeros come from sp.solve, which
-    for a periodic factor (:func:`pendulab.canonical.fundamental_frequency`) gives
-    principal solutions: every zero is one of them plus a multiple of the period, so
-    the first positive one is the least of them modulo the period.  A factor with
-    sines or cosines that is not periodic (t*sin(t)) is left to the scan.  The
-    singularities: zeros of a denominator (a negative power), of the cosine of a tan
-    or sec, the sine of a cot or csc, the argument of a log.
-    """
-    from pendulab.canonical import fundamental_frequency
-    from pendulab.exprs import size
-    t = S.t
-    if size(length, SOLVE_MAX_SIZE) > SOLVE_MAX_SIZE:
-        return _UNKNOWN
-    reps = {x: sp.Symbol(x.name, positive=True) for x in length.free_symbols - {t}
-            if x.is_positive is not True}
-    back = {v: k for k, v in reps.items()}
-    expr = length.xreplace(reps)
-    found = []
-
-    def add(equation, kind):
-        trig = equation.atoms(*_TRIG)
-        try:
-            period = None
-            if trig:
-                freq = fundamental_frequency(equation)
-                if freq is None:
-                    return False
-                period = 2 * sp.pi / freq
-        except InputError:
-            return False
-        roots = _solve_first(equation, period)
-        if roots is _UNKNOWN:
-            return False
-        found.extend((r, ok and not reps, kind) for r, ok in roots)
-        return True
-
-    singular = set()
-    for f in sp.preorder_traversal(expr):
-        if isinstance(f, sp.Pow) and f.exp.is_negative and f.base.has(t):
-            singular.add(f.base)
-        elif isinstance(f, (sp.tan, sp.sec)):
-            singular.add(sp.cos(f.args[0]))
-        elif isinstance(f, (sp.cot, sp.csc)):
-            singular.add(sp.sin(f.args[0]))
-        elif isinstance(f, sp.log):
-            singular.add(f.args[0])
-    for g in sorted(singular, key=sp.default_sort_key):
-        if not add(g, "pole"):
-            return _UNKNOWN
-    for factor in sp.Mul.make_args(sp.factor_terms(expr)):
-        if not factor.has(t) or factor.is_positive:
-            continue
-        base, power = factor.as_base_exp()
-        if power.is_negative:
-            continue  # 1/(...): its zeros are the poles above
-        if power.is_positive and not power.has(t):
-            factor = base  # sqrt(1 - t), (1 - t)**3: the zeros of the base
-        if factor.atoms(*_TRIG) - {x for x in factor.atoms(*_TRIG) if x.args[0].is_polynomial(t)
-                                   and sp.degree(x.args[0], t) <= 1}:
-            return _UNKNOWN
-        if not add(factor, "zero"):
-            return _UNKNOWN
-    best = _earliest(found)
-    if best is _UNKNOWN or best is None:
-        return best
-    return best[0].xreplace(back), best[1], best[2]
-
-
-def _scan_end(length):
-    """(t, certain, kind) of the first sign change of L(t) on 0 < t <= LENGTH_SCAN_END (a
-    Float), for a length whose only variable is t after positive constant factors are taken
-    out; None otherwise or when none is found."""
-    t = S.t
-    const, rest = length.as_independent(t, as_Add=False)
-    if const.is_positive is not True or rest.free_symbols != {t}:
-        return None
-    import numpy as np
-    f = sp.lambdify(t, rest, "numpy")
-    ts = np.linspace(0, LENGTH_SCAN_END, 20001)[1:]
-    with np.errstate(all="ignore"):
-        ys = np.broadcast_to(np.asarray(f(ts), dtype=float), ts.shape).copy()
-    # a float that underflowed to 0 (exp(-10*t) past t = 74.5) is not a zero: its sign from
-    # the expression at 30 digits
-    zeros = np.nonzero(ys == 0)[0]
-    starts = [int(k) for i, k in enumerate(zeros) if i == 0 or zeros[i - 1] != k - 1]
-    for k in starts[:16]:  # the first sample of each run of 0.0; the run takes its sign
-        sign = float(sp.sign(rest.evalf(30, subs={t: sp.Float(repr(float(ts[k])), 30)})))
-        end = k
-        while end < ys.size and ys[end] == 0:
-            ys[end] = sign * 1e-300 if sign else 0.0
-            end += 1
-    if not np.all(np.isfinite(ys)):  # overflow or a pole: look only before it
-        k = int(np.argmin(np.isfinite(ys)))
-        ts, ys = ts[:k], ys[:k]
-        if ts.size < 3:
-            return None
-    scale = abs(float(rest.subs(t, 0))) or 1.0  # |L(0)| / const, positive (checked before)
-    mags = np.abs(ys)
-    crossing = np.sign(ys[1:]) != np.sign(ys[:-1])
-    # a zero it touches without crossing (1 + cos t): a strict interior minimum of |L| near 0
-    touching = np.zeros_like(crossing)
-    touching[1:] = ((mags[1:-1] < mags[:-2]) & (mags[1:-1] < mags[2:])
-                    & (mags[1:-1] < 1e-4 * scale))
-    for k in np.nonzero(crossing | touching)[0]:
-        k = int(k)
-        if not crossing[k]:
-            return sp.Float(ts[k], 6), True, "zero"
-        lo, hi = float(ts[k]), float(ts[k + 1])
-        for _ in range(60):
-            mid = (lo + hi) / 2
-            if np.sign(f(mid)) == np.sign(f(lo)):
-                lo = mid
-            else:
-                hi = mid
-        # a zero, or a pole (3 + tan t changes sign at pi/2): the first either way
-        kind = "zero" if abs(float(f(hi))) <= 1e-6 * scale else "pole"
-        return sp.Float(hi, 6), True, kind
-    return None
-
-
-@lru_cache(maxsize=64)
-def _length_end(length):
-    """(t, certain, kind) of the first t > 0 where L(t) reaches 0 (kind "zero") or is not
-    finite (kind "pole"), or None; see :attr:`VariableLength.length_end`."""
+def _first_zero(length):
     t = S.t
     length = sp.expand(length)
     if not length.has(t):
@@ -489,50 +299,59 @@ def _length_end(length):
                     found.append((root, False))
             certain = [r for r, ok in found if ok and r.is_number]
             if certain:
-                return min(certain, key=float), True, "zero"
-            return (*found[0], "zero") if found else None
+                return min(certain, key=float), True
+            return found[0] if found else None
         if not poly.free_symbols - {t} and poly.degree() <= 8:
             roots = [r for r in poly.real_roots() if r.is_positive]
-            return (min(roots, key=float), True, "zero") if roots else None
-        if poly.degree() > 8 or len(poly.terms()) > 2:
-            # t**999: exact real roots would take minutes; a general cubic or quartic with
-            # symbols has roots too large to state; a binomial (L0 - a*t**3) is solved below
-            return _scan_end(length)
-    exact = _symbolic_end(length)
-    scanned = _scan_end(length)
-    if exact is _UNKNOWN:
-        return scanned
-    if exact is None or scanned is None:
-        return exact or scanned
-    step = 2 * LENGTH_SCAN_END / 20000  # two samples of the scan: the same time
-    if not exact[0].is_number or float(exact[0]) <= float(scanned[0]) + step:
-        return exact
-    return scanned  # the scan found an earlier change of sign than solve's roots
-
-
-def _first_zero(length):
-    """(t, certain) of the first zero of L(t) if it comes before any singularity, else None."""
-    end = _length_end(length)
-    return None if end is None or end[2] != "zero" else end[:2]
+            return (min(roots, key=float), True) if roots else None
+        # higher degrees (t**999: exact real roots would take minutes) are scanned below
+    const, rest = length.as_independent(t, as_Add=False)
+    if const.is_positive is not True or rest.free_symbols != {t}:
+        return None
+    import numpy as np
+    f = sp.lambdify(t, rest, "numpy")
+    ts = np.linspace(0, LENGTH_SCAN_END, 20001)[1:]
+    with np.errstate(all="ignore"):
+        ys = np.broadcast_to(np.asarray(f(ts), dtype=float), ts.shape)
+    if not np.all(np.isfinite(ys)):  # overflow or a pole: look only before it
+        k = int(np.argmin(np.isfinite(ys)))
+        ts, ys = ts[:k], ys[:k]
+        if ts.size < 3:
+            return None
+    scale = abs(float(rest.subs(t, 0))) or 1.0  # |L(0)| / const, positive (checked before)
+    mags = np.abs(ys)
+    crossing = np.sign(ys[1:]) != np.sign(ys[:-1])
+    # a zero it touches without crossing (1 + cos t): a strict interior minimum of |L| near 0
+    touching = np.zeros_like(crossing)
+    touching[1:] = ((mags[1:-1] < mags[:-2]) & (mags[1:-1] < mags[2:])
+                    & (mags[1:-1] < 1e-4 * scale))
+    for k in np.nonzero(crossing | touching)[0]:
+        k = int(k)
+        if not crossing[k]:
+            return sp.Float(ts[k], 6), True
+        lo, hi = float(ts[k]), float(ts[k + 1])
+        for _ in range(60):
+            mid = (lo + hi) / 2
+            if np.sign(f(mid)) == np.sign(f(lo)):
+                lo = mid
+            else:
+                hi = mid
+        if abs(float(f(hi))) <= 1e-6 * scale:  # a zero, not a pole (3 + tan t changes sign at pi/2)
+            return sp.Float(hi, 6), True
+    return None
 
 
 def length_zero_note(system):
-    """One sentence stating where L(t) reaches zero, or is first not finite (None when
-    neither, as far as known)."""
-    found = system.length_end
+    """One sentence stating where L(t) reaches zero (None when it does not, as far as known)."""
+    found = system.length_zero
     if found is None:
         return None
-    when, certain, kind = found
+    when, certain = found
     at = f"about t = {float(when):.6g}" if isinstance(when, sp.Float) else f"t = {sp.sstr(when)}"
-    if kind == "zero":
-        text = f"L(t) = {sp.sstr(system.length)} reaches zero at {at}"
-    else:
-        text = f"L(t) = {sp.sstr(system.length)} is not finite at {at} (its first singularity)"
+    text = f"L(t) = {sp.sstr(system.length)} reaches zero at {at}"
     if not certain:
         text += " (when that is positive)"
-    if kind == "zero":
-        return text + ": the string has no length there, and the equations hold only before it"
-    return text + ": the equations hold only before it"
+    return text + ": the string has no length there, and the equations hold only before it"
 
 
 @dataclass(frozen=True)
@@ -620,19 +439,6 @@ class VariableLength:
         the equations hold only before it.
         """
         return _first_zero(self.length)
-
-    @property
-    def length_end(self):
-        """``(t, certain, kind)``: the first t > 0 at which L(t) = 0 (kind "zero") or L(t)
-        is not finite (kind "pole": 1 + tan(t) at pi/2, before its zero at 3 pi/4), or None.
-
-        Besides the polynomial and scanned lengths of :attr:`length_zero`, any
-        length of at most :data:`SOLVE_MAX_SIZE` nodes is solved by SymPy with its
-        parameters taken positive (L0*cos(omega*t): pi/(2*omega); L0*(2 - exp(t)):
-        log(2); L0 - a*t**3: (L0/a)**(1/3)); a periodic one's first positive zero is
-        the least principal solution modulo the period.
-        """
-        return _length_end(self.length)
 
     @property
     def is_linear_length(self):
