@@ -99,3 +99,17 @@ def test_length_through_a_pole_is_not_a_zero():
         vm.length_check(length, values, 3.0, t_end=3.0)
     assert "not a finite positive length" in str(info.value)
     assert info.value.time == pytest.approx(math.pi / 2, rel=1e-9)
+
+
+@pytest.mark.parametrize("length, zero", [
+    ("L0*exp(-10*t)", None),                # 0.0 in floats past t = 74.5: underflow, no zero
+    ("exp(-t) - exp(-2)", 2.0),             # a true zero at t = 2 (exp(-t) = exp(-2))
+])
+def test_length_note_does_not_take_underflow_for_a_zero(length, zero):
+    from pendulab.systems import VariableLength, length_zero_note
+    note = length_zero_note(VariableLength(parse(length)))
+    if zero is None:
+        assert note is None
+    else:
+        found = re.search(r"reaches zero at about t = ([0-9.e+-]+)", note or "")
+        assert found and float(found.group(1)) == pytest.approx(zero, rel=1e-5)

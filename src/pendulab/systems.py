@@ -312,7 +312,17 @@ def _first_zero(length):
     f = sp.lambdify(t, rest, "numpy")
     ts = np.linspace(0, LENGTH_SCAN_END, 20001)[1:]
     with np.errstate(all="ignore"):
-        ys = np.broadcast_to(np.asarray(f(ts), dtype=float), ts.shape)
+        ys = np.broadcast_to(np.asarray(f(ts), dtype=float), ts.shape).copy()
+    # a float that underflowed to 0 (exp(-10*t) past t = 74.5) is not a zero: each run of
+    # 0.0 takes the sign of the expression at its first sample, evaluated at 30 digits
+    zeros = np.nonzero(ys == 0)[0]
+    starts = [int(k) for i, k in enumerate(zeros) if i == 0 or zeros[i - 1] != k - 1]
+    for k in starts[:16]:
+        sign = float(sp.sign(rest.evalf(30, subs={t: sp.Float(repr(float(ts[k])), 30)})))
+        end = k
+        while end < ys.size and ys[end] == 0:
+            ys[end] = sign * 1e-300 if sign else 0.0
+            end += 1
     if not np.all(np.isfinite(ys)):  # overflow or a pole: look only before it
         k = int(np.argmin(np.isfinite(ys)))
         ts, ys = ts[:k], ys[:k]
