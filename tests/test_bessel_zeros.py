@@ -204,3 +204,19 @@ def test_non_integer_order_where_arb_uses_its_asymptotic_expansion():
     for k in (0, 15, 16):
         assert _same_number(res.strings[k], ref[k], 20), (k + 1, res.strings[k], ref[k])
 
+
+@pytest.mark.parametrize("nu, dps", [(100, 1), (300, 1), (100, 2), (300, 3), (0, 1), (1, 2),
+                                     ("299.99", 1), ("1/3", 1)])
+def test_low_dps_is_computed_at_a_working_precision(nu, dps):
+    """dps = 1 gave 24 working bits: the certificate's interval (2^-9 |x| wide at first, then
+    widened) was wider than the gap between zeros for large orders ("interval [+/- 1.50e+4]
+    ... is not positive").  Reference: mpmath.besseljzero for integer orders, mpmath alone
+    (sign changes and findroot) for the others, at 30 digits, rounded by mpmath.nstr."""
+    res = bessel_zeros(nu, 3, dps)
+    if isinstance(nu, int):
+        with mpmath.workdps(30):
+            ref = [mpmath.besseljzero(nu, k) for k in (1, 2, 3)]
+    else:
+        ref = _mpmath_zeros(nu, 3, 30)
+    for k in range(3):
+        assert _same_number(res.strings[k], ref[k], dps), (nu, dps, k + 1, res.strings[k], ref[k])

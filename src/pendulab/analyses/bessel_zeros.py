@@ -111,6 +111,12 @@ def bits_for(dps):
     return int(math.ceil(dps * math.log2(10))) + 20
 
 
+#: Least working precision of the zeros, whatever the digits asked: the certificates need
+#: a ball far narrower than the gap between zeros (near the turning point x ~ nu of a large
+#: order, a few units wide), which bits_for(dps) of a few digits (24 bits at dps = 1) does not
+#: give.  The digits printed are still ``dps``, correctly rounded.
+MIN_ZERO_BITS = 64
+
 
 # -- exact decimal rounding of a ball ---------------------------------------------------------
 
@@ -566,7 +572,7 @@ def bessel_zeros(nu, count, dps, extra_bits=0, window_bits=None):
     nu = parse_order(nu)
     check_count(count)
     check_dps(dps)
-    bits = bits_for(dps) + extra_bits
+    bits = max(bits_for(dps), MIN_ZERO_BITS) + extra_bits
     out = ZeroSet(nu, dps)
     prev = None
     for k in range(1, count + 1):
