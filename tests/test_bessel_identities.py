@@ -96,3 +96,18 @@ def test_double_precision_loses_digits_where_the_docs_say():
 def test_bad_arguments(kwargs, fragment):
     with pytest.raises(InputError, match=fragment):
         bi.check_identities(**kwargs)
+
+
+@pytest.mark.parametrize("dps", [1, 2, 3, 4])
+def test_low_dps_engines_agree_next_to_zeros(dps):
+    """At dps 1 to 4 mpmath worked at dps + 10 = 11 to 14 digits, where its besselj at the
+    doubles next to j_0,1 and j_1,1 (|J| ~ 6e-17) has no correct digit, and the engines
+    "disagreed" (mpmath -2.8e-13 against arb's -6.1e-17).  The exact right-hand sides are
+    the references: every error below 10^-dps, every arb ball holding its exact value."""
+    rep = bi.check_identities(2, dps, SMALL_GRID)
+    assert rep.worst[0] < mpmath.mpf(10) ** (-dps)
+    assert rep.arb_certified and rep.agreements > 0
+    with mpmath.workdps(30):  # mpmath's J_0 next to j_0,1 is now right to many digits
+        J = bi._mp_values(0, 2.404825557695773, dps, derivatives=False)[0][0]
+        exact = mpmath.besselj(0, mpmath.mpf(2.404825557695773))  # at 30 digits, as a reference
+        assert abs(J - exact) < mpmath.mpf(10) ** -10 * abs(exact)

@@ -150,3 +150,73 @@ def test_ball_digits_refuses_ambiguous_rounding():
 def test_bad_arguments(args, fragment):
     with pytest.raises(InputError, match=fragment):
         bessel_zeros(*args)
+
+
+# -- regressions: non-integer orders above 75, low dps, arb's method bound near x ~ 1.4 nu --------
+
+def _mpmath_zeros(nu, count, digits):
+    """The first ``count`` zeros of J_nu by mpmath alone, independently of the code under test:
+    sign changes of mpmath.besselj on the grid max(nu, 1/2) + k/2 (J_nu > 0 on (0, nu] and
+    zeros are more than 1/2 apart, so none is missed), each then solved by mpmath.findroot
+    (Anderson's bracketing method) at ``digits`` digits."""
+    nu = Fraction(nu)
+    with mpmath.workdps(digits):
+        order = mpmath.mpf(nu.numerator) / nu.denominator
+        f = lambda x: mpmath.besselj(order, x)  # noqa: E731
+        x = max(order, mpmath.mpf(1) / 2)
+        fx, out = f(x), []
+        while len(out) < count:
+            y = x + mpmath.mpf(1) / 2
+            fy = f(y)
+            if fx * fy < 0:
+                out.append(mpmath.findroot(f, (x, y), solver="anderson"))
+            x, fx = y, fy
+    return out
+
+
+def _same_number(ours, ref, dps):
+    """``ours`` has ``dps`` significant digits and equals ``ref`` rounded to them (by mpmath)."""
+    mantissa = ours.split("e")[0].replace(".", "").lstrip("0")
+    return len(mantissa) == dps and Fraction(ours) == Fraction(mpmath.nstr(ref, dps))
+
+
+@pytest.mark.parametrize("nu", ["99.9", "150.5", "200.25", "250.7", "299.5", "299.99"])
+def test_non_integer_orders_beyond_75_are_certified(nu):
+    """These failed with "cannot decide the sign of J_nu": the bracket search evaluated J_nu
+    at sums rounded at 53 bits (balls of radius ~1e-13), and arb's J_nu of a non-integer
+    order turns such a radius into an enclosure too wide for any sign, at every precision.
+    Reference: mpmath alone (besselj's sign changes, then findroot at 50 digits)."""
+    res = bessel_zeros(nu, 3, 30)
+    ref = _mpmath_zeros(nu, 3, 50)
+    for k in range(3):
+        assert _same_number(res.strings[k], ref[k], 30), (nu, k + 1, res.strings[k], ref[k])
+    assert check_index(nu, res.balls)
+
+
+@pytest.mark.slow
+def test_non_integer_order_where_arb_uses_its_asymptotic_expansion():
+    """For nu = 299.99 the Newton iterates near x ~ 407 (zero 17) are where arb evaluates J_nu
+    by an asymptotic expansion up to ~1000 bits, whose truncation bound (2^-25 here) does not
+    shrink as the precision grows by small steps: the evaluation gave up ("cannot be evaluated
+    accurately").  Reference: mpmath alone, as above."""
+    res = bessel_zeros("299.99", 17, 20)
+    ref = _mpmath_zeros("299.99", 17, 40)
+    for k in (0, 15, 16):
+        assert _same_number(res.strings[k], ref[k], 20), (k + 1, res.strings[k], ref[k])
+
+
+@pytest.mark.parametrize("nu, dps", [(100, 1), (300, 1), (100, 2), (300, 3), (0, 1), (1, 2),
+                                     ("299.99", 1), ("1/3", 1)])
+def test_low_dps_is_computed_at_a_working_precision(nu, dps):
+    """dps = 1 gave 24 working bits: the certificate's interval (2^-9 |x| wide at first, then
+    widened) was wider than the gap between zeros for large orders ("interval [+/- 1.50e+4]
+    ... is not positive").  Reference: mpmath.besseljzero for integer orders, mpmath alone
+    (sign changes and findroot) for the others, at 30 digits, rounded by mpmath.nstr."""
+    res = bessel_zeros(nu, 3, dps)
+    if isinstance(nu, int):
+        with mpmath.workdps(30):
+            ref = [mpmath.besseljzero(nu, k) for k in (1, 2, 3)]
+    else:
+        ref = _mpmath_zeros(nu, 3, 30)
+    for k in range(3):
+        assert _same_number(res.strings[k], ref[k], dps), (nu, dps, k + 1, res.strings[k], ref[k])

@@ -111,6 +111,13 @@ def bits_for(dps):
     return int(math.ceil(dps * math.log2(10))) + 20
 
 
+#: Least working precision of the zeros, whatever the digits asked: the certificates need
+#: a ball far narrower than the gap between zeros (near the turning point x ~ nu of a large
+#: order, a few units wide), which bits_for(dps) of a few digits (24 bits at dps = 1) does not
+#: give.  The digits printed are still ``dps``, correctly rounded.
+MIN_ZERO_BITS = 64
+
+
 # -- exact decimal rounding of a ball ---------------------------------------------------------
 
 def _man_exp(x):
@@ -223,7 +230,7 @@ def _log2(x):
 def _eval(nu, x, bits, tol_bits):
     """(f, f') at x with rad(f)/|f'| below 2^-tol_bits |x|: the precision is raised past
     the digits arb loses (J_nu for x below nu loses many).  Returns (f, f', bits used)."""
-    w = bits
+    w, last = bits, None
     for _ in range(12):
         with _Prec(w):
             nu_b = _order_ball(nu)
@@ -234,7 +241,15 @@ def _eval(nu, x, bits, tol_bits):
                 lrel = _log2(f.rad()) - _log2(abs(fp).abs_lower()) + 1 - _log2(xm)
                 if lrel <= -tol_bits - 1:
                     return f, fp, w
-                w += max(int(lrel) + tol_bits + 8, 16)
+                step = max(int(lrel) + tol_bits + 8, 16)
+                if last is not None and lrel > last - 8:
+                    # the last raise did not narrow the ball: its width is not rounding but
+                    # the truncation bound of the method arb chose (for a non-integer order
+                    # near x ~ 1.4 nu, an asymptotic expansion up to ~1000 bits): grow
+                    # geometrically until arb changes method
+                    step = max(step, w)
+                last = lrel
+                w += step
             else:
                 w += max(32, w // 2)
     raise CertificationError(f"J_{nu} cannot be evaluated accurately near {x}")
@@ -455,10 +470,10 @@ def first_bracket(nu, bits=64, step=Fraction(1, 2)):
         h = arb(fmpq(step.numerator, step.denominator))
     x = a
     for _ in range(10 * MAX_ORDER):
-        y = x + h
+        y = _point(x + h, bits)
         s = _sign_certain(nu, y, bits)
         if s == 0:  # a point too close to the zero: move it a little
-            y = y + h / 7
+            y = _point(y + h / 7, bits)
             s = _sign_certain(nu, y, bits)
             if s == 0:
                 raise CertificationError(f"cannot decide the sign of J_{nu} near {y}")
@@ -466,6 +481,19 @@ def first_bracket(nu, bits=64, step=Fraction(1, 2)):
             return x, y, 1
         x = y
     raise CertificationError(f"no sign change of J_{nu} found")
+
+
+def _point(y, bits):
+    """An exact point (radius 0) at or within 2^-bits |y| of the ball ``y``'s midpoint.
+
+    The points where the sign of J_nu is decided must be exact: arb's J_nu of a
+    non-integer order propagates an input radius (even 1e-13, the rounding of a
+    sum at the default 53 bits) into an enclosure too wide for any sign, at every
+    precision.  A point moved by 2^-bits changes the step by far less than the
+    gap between zeros the bracket search relies on.
+    """
+    with _Prec(bits):
+        return arb(y).mid()
 
 
 def _sign_certain(nu, y, bits, top=4096):
@@ -544,7 +572,7 @@ def bessel_zeros(nu, count, dps, extra_bits=0, window_bits=None):
     nu = parse_order(nu)
     check_count(count)
     check_dps(dps)
-    bits = bits_for(dps) + extra_bits
+    bits = max(bits_for(dps), MIN_ZERO_BITS) + extra_bits
     out = ZeroSet(nu, dps)
     prev = None
     for k in range(1, count + 1):
