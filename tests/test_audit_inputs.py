@@ -172,3 +172,11 @@ def test_work_refusals_suggest_only_what_would_change():
     problem = limits.work_problem("floquet", {"points": points[:1], "ratios": [], "dps": 1000,
                                               "method": "monodromy"})
     assert problem and "method 'hill'" in problem
+
+
+def test_non_integer_orders_above_75_have_a_smaller_zero_budget(capsys):
+    # 1000 zeros of J_299.99 at 1000 digits took over 75 s of CPU (an audit); refused at once
+    line = _one_error(capsys, ["bessel", "zeros", "--order", "299.99", "--count", "1000",
+                               "--dps", "1000"])
+    assert "non-integer order" in line and str(limits.BESSEL_ZERO_WORK //
+                                               limits.BESSEL_NON_INTEGER_FACTOR) in line

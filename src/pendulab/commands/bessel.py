@@ -64,12 +64,17 @@ def add_parser(sub):
 def run_zeros(args):
     from pendulab import limits
     problems = limits.Problems()
-    problems.parse("bessel.order", args.order, "--order")
+    order = problems.parse("bessel.order", args.order, "--order")
     count = problems.parse("bessel.zeros", args.count, "--count")
     dps = problems.parse("bessel.dps", args.dps, "--dps")
-    if count is not None and dps is not None and count * dps > limits.BESSEL_ZERO_WORK:
-        problems.add(f"--count x --dps = {count * dps} is more than {limits.BESSEL_ZERO_WORK} "
-                     "digits in all (about a minute): ask for fewer or shorter numbers")
+    budget = limits.BESSEL_ZERO_WORK
+    dear = order is not None and order > 75 and order != int(order)
+    if dear:
+        budget //= limits.BESSEL_NON_INTEGER_FACTOR
+    if count is not None and dps is not None and count * dps > budget:
+        problems.add(f"--count x --dps = {count * dps} is more than {budget} digits in all "
+                     f"{'for a non-integer order above 75 ' if dear else ''}(about a minute): "
+                     "ask for fewer or shorter numbers")
     problems.raise_any()
 
     from pendulab.analyses.bessel_zeros import bessel_zeros
