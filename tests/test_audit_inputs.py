@@ -180,3 +180,26 @@ def test_non_integer_orders_above_75_have_a_smaller_zero_budget(capsys):
                                "--dps", "1000"])
     assert "non-integer order" in line and str(limits.BESSEL_ZERO_WORK //
                                                limits.BESSEL_NON_INTEGER_FACTOR) in line
+
+
+def test_extreme_motion_values_give_one_line_not_numpy_warnings(tmp_path):
+    # L0 = g = 1e-300 are inside their ranges; the closed form's values overflow to NaN.  A
+    # subprocess: pytest would catch NumPy's warnings that the command prints
+    scene = tmp_path / "tiny.toml"
+    scene.write_text('system = "variable-length"\n[parameters]\nlength = "L0 + v0*t"\n'
+                     "[products.motion]\nfigures = false\nL0 = 1e-300\ng = 1e-300\n")
+    code = "from pendulab.cli import console; import sys; console(sys.argv[1:])"
+    out = subprocess.run([sys.executable, "-c", code, "build", str(scene), "--out",
+                          str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
+    err = out.stderr.strip().splitlines()
+    assert out.returncode == 2 and len(err) == 1 and "products.motion" in err[0], err
+
+
+def test_experiments_refuse_a_criterion_or_map_listed_twice():
+    from pendulab.products.experiments import OPTIONS, check_options
+    options = {key: default for key, (_, default, _) in OPTIONS.items()}
+    options.update(criteria=["mean", "mean"], maps=["text", "fig4", "text"])
+    with pytest.raises(InputError) as info:
+        check_options(options)
+    text = "; ".join(getattr(info.value, "problems", [str(info.value)]))
+    assert "criteria: 'mean' listed twice" in text and "maps: 'text' listed twice" in text

@@ -458,7 +458,11 @@ def closed_form_theta(solution, length, values, theta_0, times, *, engine="scipy
     times = np.asarray(times, dtype=float)
     if engine == "scipy":
         fn = sp.lambdify((S.t, S.theta_0), expr, ["scipy", "numpy"])
-        return np.broadcast_to(np.asarray(fn(times, th0), dtype=float), times.shape).copy()
+        # extreme scene values (L0 = g = 1e-300) overflow or give NaN here: the callers see
+        # the values and refuse them in one line; NumPy's warnings would be lines more
+        with np.errstate(all="ignore"):
+            values = fn(times, th0)
+        return np.broadcast_to(np.asarray(values, dtype=float), times.shape).copy()
     if engine != "mpmath":
         raise InputError(f"engine: must be 'scipy' or 'mpmath', got {engine!r}")
     import mpmath

@@ -90,6 +90,10 @@ def check_options(options):
     for c in options["criteria"]:
         if c not in CRITERIA:
             problems.append(f"criteria: {c!r} is not one of {', '.join(CRITERIA)}")
+    for key in ("maps", "criteria"):
+        twice = sorted({x for x in options[key] if options[key].count(x) > 1}, key=str)
+        if twice:
+            problems.append(f"{key}: {', '.join(map(repr, twice))} listed twice")
     from pendulab import limits
     ranged = [k for k in OPTIONS if f"experiments.{k}" in limits.LIMITS]
     for key in ranged:
