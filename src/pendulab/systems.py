@@ -285,6 +285,7 @@ def without_sine_squared(expr, angle):
 
 def _first_zero(length):
     t = S.t
+    written = length
     length = sp.expand(length)
     if not length.has(t):
         return None
@@ -305,9 +306,26 @@ def _first_zero(length):
             roots = [r for r in poly.real_roots() if r.is_positive]
             return (min(roots, key=float), True) if roots else None
         # higher degrees (t**999: exact real roots would take minutes) are scanned below
-    const, rest = length.as_independent(t, as_Add=False)
-    if const.is_positive is not True or rest.free_symbols != {t}:
+    # positive constant factors out (L0*(2 - exp(t)): L0 is, before expanding)
+    const, rest = sp.factor_terms(written).as_independent(t, as_Add=False)
+    if const.is_positive is not True:
         return None
+    rate = None
+    if rest.free_symbols != {t}:
+        # one symbol r that enters only as r*t (L0*cos(omega*t)): scanned in u = r t, and the
+        # time is u/r when r is positive
+        others = rest.free_symbols - {t}
+        if len(others) != 1:
+            return None
+        rate = others.pop()
+        u = sp.Dummy("u", positive=True)
+        scaled = rest.subs(t, u / rate)
+        if scaled.has(rate):
+            return None
+        found = _first_zero(scaled.subs(u, t))
+        if found is None or not isinstance(found[0], sp.Float):
+            return None
+        return found[0] / rate, False
     import numpy as np
     f = sp.lambdify(t, rest, "numpy")
     ts = np.linspace(0, LENGTH_SCAN_END, 20001)[1:]
@@ -348,6 +366,9 @@ def _first_zero(length):
                 hi = mid
         if abs(float(f(hi))) <= 1e-6 * scale:  # a zero, not a pole (3 + tan t changes sign at pi/2)
             return sp.Float(hi, 6), True
+        # a pole: L is not finite there, and what comes after it (the zero of 1 + tan t at
+        # 3 pi/4) is no length the string reaches
+        return None
     return None
 
 
@@ -443,10 +464,14 @@ class VariableLength:
         degree <= 8);
         ``certain`` is False when the root is positive only for some values
         of the symbols.  Any other length whose only variable is t (after
-        positive constant factors are taken out: L0*cos(t)) is scanned on
+        positive constant factors are taken out: L0*cos(t), L0*(2 - exp(t))) is scanned on
         0 < t <= :data:`LENGTH_SCAN_END` and the sign change refined by
-        bisection (a float then).  Past the zero the string has no length:
-        the equations hold only before it.
+        bisection (a float then); one with a single other symbol r that enters
+        only as r*t (L0*cos(omega*t)) is scanned in r*t, and its time u/r is
+        not certain (r may be negative).  A float that underflowed to 0.0 is
+        not a zero, and a pole ends the scan (1 + tan t: no zero is claimed
+        past pi/2).  Past the zero the string has no length: the equations
+        hold only before it.
         """
         return _first_zero(self.length)
 
