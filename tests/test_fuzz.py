@@ -34,7 +34,10 @@ CASE_SECONDS = 25
 
 _ATOMS = ["t", "a", "b", "omega", "m", "l", "L0", "v0", "I0", "g", "0", "1", "2", "0.5", "-1",
           "1/2", "pi", "inf", "nan", "oo", "zoo", "theta", "theta(t)", "y0(t)", "x", "1e999",
-          "__import__('os')", "''", "E", "I"]
+          "__import__('os')", "''", "E", "I",
+          # found by the 2026-12-03 audit: numbers past Python's 4300 printed digits or its
+          # Rational's patience, unicode digits, a byte-order mark
+          "1e5000", "1e999999999", "1e-999999", "(10**1000)", "\u00b3", "\u0663", "\ufeffa"]
 _FUNCS = ["sin", "cos", "tan", "exp", "log", "sqrt", "Abs", "besselj", "Eq", "Tuple",
           "Rational", "Derivative", "f", "Matrix"]
 _OPS = ["+", "-", "*", "/", "**", "^", "%", "<", ","]
@@ -61,6 +64,8 @@ _SPECIAL_EXPRESSIONS = [
     "Derivative(Derivative(cos(t), (t, 20)), (t, 20))", "-" * 3990 + "a", "+".join(["a"] * 70),
     "Eq(t, 1)", "Tuple(1, 2)", "cos(t)**999", "a*cos(omega*t)**2", "1/(t - t)",
     "(" * 300 + "t" + ")" * 300, "a*" * 1500 + "t",
+    "a*cos(omega*t)" + "*(10**1000)" * 5, "a*cos(omega*t)*(10**3000*a)**1000",
+    "Piecewise((a, t > 0), (0, True))", "sqrt(-1)*a*cos(omega*t)", "Integer(1.5)*t",
 ]
 
 
@@ -79,6 +84,7 @@ def _toml_values():
     scalars = st.one_of(
         st.sampled_from(["nan", "inf", "-inf", "0", "-1", "1", "2", "8", "30", "1001", "20000",
                          "10000000000000000000", "0.5", "-0.25", "1e400", "true", "false",
+                         "1" + "0" * 5000,
                          '""', '"x"', '"1/2"', '"-1/5"', '"abc"', '"0"', '"nan"']),
         expressions().map(lambda e: '"' + e.replace("\\", "").replace('"', "'") + '"'),
     )
@@ -89,7 +95,8 @@ def _toml_values():
 _OPTIONS = {
     "equations": {"x": None},
     "series": {"order": ["0", "1", "2", "3", "61", "-1", "true", '"4"'],
-               "kinds": ['["nu"]', '["a0", "b1"]', '["x1"]', "[]", '["nu", "nu"]', '"nu"']},
+               "kinds": ['["nu"]', '["a0", "b1"]', '["x1"]', "[]", '["nu", "nu"]', '"nu"',
+                         '["a\u00b2"]']},
     "floquet": {"points": ['[["-0.002", "0.2"]]', '[["-1/5", "1/10"]]', "[[nan, 0.2]]",
                            "[[1]]", '[["1e9", "1"]]', "[]", '[["a", "b"]]', "[[0.1, -0.2]]"],
                 "ratios": ['["0"]', "[]", '["-1"]', '["x"]', "[inf]", '["0.1", "0.2"]'],
@@ -97,7 +104,7 @@ _OPTIONS = {
                 "method": ['"hill"', '"cf"', '"monodromy"', '"eval"', "3"]},
     "stability": {"points": ["2", "3", "1", "402", "1001", "-3", "2.5"],
                   "max_ratio": ['"1/2"', '"0"', '"11"', '"abc"', '"1/0"', "0.5"],
-                  "methods": ['["eq12"]', '["eq12", "eq19"]', '["eq99"]', '["series:0"]',
+                  "methods": ['["eq12"]', '["eq12", "eq19"]', '["eq99"]', '["series:0"]', '["series:\u00b3"]',
                               '["series:41"]', "[]", '["integer-series:3"]'],
                   "figure": ["false", "true", '"no"']},
     "quarter_periods": {"count": ["1", "4", "0", "201", "-1"], "dps": ["5", "15", "4", "101"]},
