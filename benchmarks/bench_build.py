@@ -187,7 +187,10 @@ def figure_free_scenes(into):
                 if key in options and options[key][0] is bool:
                     header = re.compile(rf"^\[products\.{re.escape(name)}\][^\n]*\n", re.M)
                     found = header.search(text)
-                    if found is None or re.search(rf"^{key}\s*=", text[found.end():], re.M):
+                    table = text[found.end():] if found else ""
+                    nxt = re.search(r"^\[", table, re.M)  # the product's own table ends there
+                    table = table[:nxt.start()] if nxt else table
+                    if found is None or re.search(rf"^{key}\s*=", table, re.M):
                         sys.exit(f"--issue-units: cannot turn off {name}.{key} in {path.name}")
                     text = text[:found.end()] + f"{key} = false\n" + text[found.end():]
                     off.append(f"{path.stem}: {name}.{key}")
@@ -277,7 +280,8 @@ def breakdown():
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--repeat", type=int, default=1, help="rounds (the fastest counts; at least 1)")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="rounds, at least 1 (the fastest counts; --issue-units also gives the median)")
     ap.add_argument("--jobs", type=int, default=None, help="PENDULAB_JOBS for ours (the older code has none)")
     ap.add_argument("--serial", action="store_true",
                     help="also time ours with PENDULAB_JOBS=1 (the default mode only)")

@@ -156,6 +156,10 @@ def main(argv=None):
         return 130
 
 
+#: Python's int-to-text limit in the ``pendulab`` command (sys.set_int_max_str_digits; the
+#: default is 4300): numbers of a derivation print whole, reading a number stays quick.
+MAX_INT_DIGITS = 100_000
+
 #: gc.set_threshold of the ``pendulab`` command (see :func:`console`).
 GC_THRESHOLDS = (20000, 50, 100)
 
@@ -184,8 +188,10 @@ def console(argv=None):
     gc.set_threshold(*GC_THRESHOLDS)
     # numbers in expressions have at most pendulab.exprs.MAX_NUMBER_DIGITS digits, but a
     # derivation multiplies them (a series to order 12 of a drive with a 1000-digit amplitude)
-    # beyond the 4300 digits Python prints by default
-    sys.set_int_max_str_digits(0)
+    # beyond the 4300 digits Python prints by default; a bound is kept (MAX_INT_DIGITS) so that
+    # a scene or an argument with a number of millions of digits is refused at once, not read
+    # for a minute (the conversion takes time quadratic in the digits)
+    sys.set_int_max_str_digits(MAX_INT_DIGITS)
     status = main(argv)
     for stream in (sys.stdout, sys.stderr):
         try:

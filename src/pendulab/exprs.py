@@ -42,13 +42,18 @@ MAX_LENGTH = 4000
 MAX_DEPTH = 60
 #: Largest numeric exponent allowed (``t**(10**10)`` would hang the derivation).
 MAX_NUMERIC_EXPONENT = 1000
-#: Most decimal digits of an exact number in an expression (``1e5000``, ``10**5000`` and
-#: ``(10**1000)**5`` are refused): ``((10**1000)**1000)**1000`` or ``1e999999999`` would
-#: hang the parser.  (Python prints no integer of more than 4300 digits unless told to: the
-#: ``pendulab`` command is; :func:`dump_expr` and :func:`latex` say so in one line otherwise.)
+#: Exact numbers in an expression are at most 10**MAX_NUMBER_DIGITS in numerator and
+#: denominator (``1e1000`` and ``10**1000`` are the largest; ``1e1001``, ``(10**400)**3``
+#: and ``1.5e-1000``, whose denominator is 10**1001, are refused):
+#: ``((10**1000)**1000)**1000`` or ``1e999999999`` would hang the parser.  (Python prints
+#: no integer of more than 4300 digits unless told to: the ``pendulab`` command is;
+#: :func:`dump_expr` and :func:`latex` say so in one line otherwise.)
 MAX_NUMBER_DIGITS = 1000
-#: The same bound in bits (numerator or denominator of a rational number).
-MAX_NUMBER_BITS = int(MAX_NUMBER_DIGITS * 3.3219280948873626) + 1
+_MAX_NUMBER = 10 ** MAX_NUMBER_DIGITS
+#: log2 of the largest number, for estimating a power before it is computed
+_MAX_LOG2 = MAX_NUMBER_DIGITS * 3.321928094887362
+#: A bound in bits above every number allowed (a quick first test)
+MAX_NUMBER_BITS = int(_MAX_LOG2) + 2
 #: Highest total derivative order accepted: the orders of nested
 #: ``Derivative(Derivative(f, (t, 20)), (t, 20))`` add up (40 here).
 MAX_DERIVATIVE_ORDER = 20
@@ -191,18 +196,25 @@ def _bits(x):
     return 0
 
 
-def _largest_bits(expr):
-    """Size in bits of the largest exact rational in ``expr`` (0 when there is none)."""
-    if isinstance(expr, sp.Rational):
-        return _bits(expr)
-    return max((_bits(a) for a in expr.atoms(sp.Rational)), default=0)
+def _rationals(expr):
+    return [expr] if isinstance(expr, sp.Rational) else list(expr.atoms(sp.Rational))
+
+
+def _largest_log2(expr):
+    """log2 of the largest numerator or denominator of an exact rational in ``expr`` (0 when
+    there is none): a power x**y makes numbers of about y times that."""
+    import math
+    return max((math.log2(n) for a in _rationals(expr) for n in (abs(int(a.p)), int(a.q)) if n > 1),
+               default=0.0)
 
 
 def _check_size(value):
-    """``value``, or an InputError when a number in it has more than MAX_NUMBER_DIGITS digits."""
-    if _largest_bits(value) > MAX_NUMBER_BITS:
-        raise InputError(f"a number in the expression has more than {MAX_NUMBER_DIGITS} digits "
-                         "(numerator or denominator)")
+    """``value``, or an InputError when a number in it passes 10**MAX_NUMBER_DIGITS (numerator
+    or denominator)."""
+    for a in _rationals(value):
+        if abs(int(a.p)) > _MAX_NUMBER or int(a.q) > _MAX_NUMBER:
+            raise InputError(f"a number in the expression is larger than 10**{MAX_NUMBER_DIGITS} "
+                             "(in its numerator or denominator)")
     return value
 
 
@@ -263,16 +275,17 @@ class _Builder:
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise InputError(f"constant {v!r} is not a number")
         if isinstance(v, int):
-            if v.bit_length() > MAX_NUMBER_BITS:
-                raise InputError(f"the number {str(self.source)[:20]}... has more than "
-                                 f"{MAX_NUMBER_DIGITS} digits")
+            if v.bit_length() > MAX_NUMBER_BITS or v > _MAX_NUMBER:
+                text = ast.get_source_segment(self.source, node) or "an integer"
+                raise InputError(f"the number {text[:20]}... is larger than "
+                                 f"10**{MAX_NUMBER_DIGITS}")
             return sp.Integer(v)
         text = (ast.get_source_segment(self.source, node) or repr(v)).replace("_", "")
         found = _DECIMAL.match(text)
         if found is None or (found.group(2) is not None
                              and abs(int(found.group(2))) > MAX_NUMBER_DIGITS):
-            raise InputError(f"the number {text[:30]} is out of range (decimal exponents from "
-                             f"-{MAX_NUMBER_DIGITS} to {MAX_NUMBER_DIGITS})")
+            raise InputError(f"the number {text[:30]} is out of range (numbers from "
+                             f"10**-{MAX_NUMBER_DIGITS} to 10**{MAX_NUMBER_DIGITS})")
         return _check_size(sp.Rational(text))
 
     def _Name(self, node, d):
@@ -335,11 +348,11 @@ class _Builder:
         if isinstance(op, ast.Pow):
             if y.is_number and y.is_real and abs(y) > MAX_NUMERIC_EXPONENT:
                 raise InputError(f"numeric exponent {y} is too large (limit {MAX_NUMERIC_EXPONENT})")
-            if y.is_number and _largest_bits(x) * abs(sp.re(y)) > MAX_NUMBER_BITS:
-                base = ast.get_source_segment(self.source, node.left) or sp.sstr(x)
+            if y.is_number and _largest_log2(x) * abs(float(sp.re(y))) > _MAX_LOG2 + 1e-9:
+                base = ast.get_source_segment(self.source, node.left) or "the base"
                 base = base if re.fullmatch(r"[\w.]+", base) else f"({base})"
-                raise InputError(f"the power {base[:30]}**{y} is too large a number (more than "
-                                 f"{MAX_NUMBER_DIGITS} digits)")
+                raise InputError(f"the power {base[:30]}**{y} is too large a number (larger "
+                                 f"than 10**{MAX_NUMBER_DIGITS})")
             if x == 0 and y.is_number and y.is_negative:
                 raise InputError(f"division by zero in expression (0**{y})")
             return x ** y
@@ -451,9 +464,10 @@ def parse(text, namespace=None, *, functions=True):
     if not isinstance(value, sp.Expr) or isinstance(value, sp.Tuple):
         raise InputError(f"{text.strip()[:40]!r} is not an expression")
     _check_size(value)
-    if value.has(sp.I):
-        raise InputError(f"expression {text.strip()[:40]!r} is not real (it has the imaginary "
-                         "unit: a square root or logarithm of a negative number?)")
+    if value.has(sp.I) or any(e.is_number and e.is_real is False
+                              for e in sp.preorder_traversal(value)):
+        raise InputError(f"expression {text.strip()[:40]!r} is not real (a root or logarithm "
+                         "of a negative number, or asin/acos beyond 1?)")
     if _not_finite(value):
         raise InputError(f"expression is not finite: {sp.sstr(value)[:40]} (zoo is 1/0: "
                          "a division by zero)")

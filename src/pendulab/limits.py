@@ -431,10 +431,11 @@ MOTION_MAX_PERIODS = 2000
 
 #: Largest (zeros computed) x dps of the bessel product, as for quarter periods.
 BESSEL_ZERO_WORK = QUARTER_PERIOD_WORK
-#: How many times dearer a zero of J_nu is for a non-integer order above 75 (arb's expansions
-#: need much more precision there): measured on 2026-12-03 with ``pendulab bessel zeros
-#: --count 100 --dps 1000``, 9.96 s at order 299.99 against 1.82 s at order 300 (5.5x); the
-#: budget of such orders is BESSEL_ZERO_WORK / this.
+#: How many times dearer a zero of J_nu can be for a non-integer order (arb's expansions need
+#: much more precision there): measured on 2026-12-03 with ``pendulab bessel zeros --count 100
+#: --dps 1000``, 9.96 s at order 299.99 against 1.82 s at order 300 (5.5x); orders just off an
+#: integer (2.01) are slow at 1000 digits too.  The budget of a non-integer order is
+#: BESSEL_ZERO_WORK / this.
 BESSEL_NON_INTEGER_FACTOR = 6
 #: Largest (nmax + 1) x (points + 9) x dps of the bessel product's identity checks (docs/scenes.md).
 BESSEL_IDENTITY_WORK = 4_000_000

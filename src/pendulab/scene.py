@@ -28,6 +28,7 @@ and the key (:class:`pendulab.errors.SceneError`).  Expressions are parsed by
 import math
 import re
 import os
+import sys
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -373,9 +374,10 @@ def load_scene(path):
         hint = " (the file starts with a byte-order mark: save it as UTF-8 without one)" \
             if text.startswith("\ufeff") else ""
         raise SceneError(path, None, f"not valid TOML: {exc}{hint}") from None
-    except ValueError as exc:  # an integer of more than 4300 digits (Python's int() limit)
-        raise SceneError(path, None, f"not valid here: {exc} (a scene's numbers are far "
-                                     "smaller)") from None
+    except ValueError:  # an integer longer than Python's int() limit (sys.get_int_max_str_digits)
+        raise SceneError(path, None, "has an integer of more than "
+                                     f"{sys.get_int_max_str_digits()} digits (a scene's numbers "
+                                     "are far smaller)") from None
     except (RecursionError, MemoryError):
         raise SceneError(path, None, "not valid TOML here: nested too deeply "
                                      f"(a scene needs at most {MAX_NESTING} levels)") from None

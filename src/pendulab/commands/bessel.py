@@ -68,12 +68,12 @@ def run_zeros(args):
     count = problems.parse("bessel.zeros", args.count, "--count")
     dps = problems.parse("bessel.dps", args.dps, "--dps")
     budget = limits.BESSEL_ZERO_WORK
-    dear = order is not None and order > 75 and order != int(order)
+    dear = order is not None and order != int(order)
     if dear:
         budget //= limits.BESSEL_NON_INTEGER_FACTOR
     if count is not None and dps is not None and count * dps > budget:
         problems.add(f"--count x --dps = {count * dps} is more than {budget} digits in all "
-                     f"{'for a non-integer order above 75 ' if dear else ''}(about a minute): "
+                     f"{'for a non-integer order ' if dear else ''}(about a minute): "
                      "ask for fewer or shorter numbers")
     problems.raise_any()
 
