@@ -466,8 +466,9 @@ def parse(text, namespace=None, *, functions=True):
     _check_size(value)
     if value.has(sp.I) or any(e.is_number and e.is_real is False
                               for e in sp.preorder_traversal(value)):
-        raise InputError(f"expression {text.strip()[:40]!r} is not real (a root or logarithm "
-                         "of a negative number, or asin/acos beyond 1?)")
+        raise InputError(f"expression {text.strip()[:40]!r} is not real (the imaginary unit "
+                         "or a complex value: a root or logarithm of a negative number, or "
+                         "asin/acos beyond 1?)")
     if _not_finite(value):
         raise InputError(f"expression is not finite: {sp.sstr(value)[:40]} (zoo is 1/0: "
                          "a division by zero)")
