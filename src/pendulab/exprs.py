@@ -339,7 +339,7 @@ class _Builder:
                     value = value / factor
                 else:
                     value = value * factor
-                _check_size(value)
+                _check_size(value.as_coeff_Mul()[0])  # numbers multiply into the coefficient
             return value
         x = self.build(node.left, d)
         y = self.build(node.right, d)
