@@ -166,6 +166,16 @@ def _show(value):
     return text if len(text) <= 40 else text[:37] + "..."
 
 
+def ascii_digits(text):
+    """Whether ``text`` is a whole number written with the digits 0-9 only (str.isdigit
+    also takes superscripts and other scripts' digits, which int() then refuses or reads).
+
+    >>> ascii_digits("12"), ascii_digits("\u00b3"), ascii_digits("\u0663"), ascii_digits("")
+    (True, False, False, False)
+    """
+    return text.isascii() and text.isdigit()
+
+
 def spec(name):
     """``(type, min, max, default, help)`` of option ``name`` (KeyError if unknown)."""
     return LIMITS[name]
@@ -411,7 +421,7 @@ def stability_seconds(points, methods):
         if not isinstance(method, str):
             continue
         kind, _, order = method.partition(":")
-        n = int(order) if order.isascii() and order.isdigit() else 0
+        n = int(order) if ascii_digits(order) else 0
         if kind == "series":
             per_point += 0.005 + 0.0025 * n ** 1.4
         elif kind == "integer-series":

@@ -310,7 +310,6 @@ def _first_zero(length):
     const, rest = sp.factor_terms(written).as_independent(t, as_Add=False)
     if const.is_positive is not True:
         return None
-    rate = None
     if rest.free_symbols != {t}:
         # one symbol r that enters only as r*t (L0*cos(omega*t)): scanned in u = r t, and the
         # time is u/r when r is positive

@@ -257,7 +257,8 @@ def mathieu_series(order):
 # =====================================================================================
 
 def _parse_kind(kind):
-    if not isinstance(kind, str) or len(kind) < 2 or kind[0] not in "ab" or not (kind[1:].isascii() and kind[1:].isdigit()):
+    from pendulab.limits import ascii_digits
+    if not isinstance(kind, str) or len(kind) < 2 or kind[0] not in "ab" or not ascii_digits(kind[1:]):
         raise InputError(f"kind must be 'a<m>' (m >= 0) or 'b<m>' (m >= 1), e.g. 'a0' or 'b1'; got {kind!r}")
     letter, m = kind[0], int(kind[1:])
     if letter == "b" and m == 0:

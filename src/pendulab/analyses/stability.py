@@ -35,7 +35,7 @@ import math
 import numbers
 
 from pendulab.errors import InputError, PendulabError
-from pendulab.limits import LIMITS
+from pendulab.limits import LIMITS, ascii_digits
 
 #: The fixed method names; "series:N" (MIN_SERIES_ORDER <= N <= MAX_SERIES_ORDER) is accepted too.
 METHODS = ("exact", "eq12", "eq19", "eq19-corrected", "eq28")
@@ -106,7 +106,7 @@ def parse_method(method):
     for kind, lowest in (("series", MIN_SERIES_ORDER), ("integer-series", 1)):
         if method.startswith(kind + ":"):
             text = method[len(kind) + 1:]
-            if not (text.isascii() and text.isdigit()) or not lowest <= int(text) <= MAX_SERIES_ORDER:
+            if not ascii_digits(text) or not lowest <= int(text) <= MAX_SERIES_ORDER:
                 raise InputError(f"method {method!r}: the series order must be an integer "
                                  f"between {lowest} and {MAX_SERIES_ORDER}")
             return kind, int(text)

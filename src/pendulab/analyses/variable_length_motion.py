@@ -288,12 +288,12 @@ def length_check(length, values, horizon, *, t_end, why=""):
     if found is not None and found[1] <= horizon:
         kind, when = found
         if kind == "zero":
-            head = f"L(t) = {length} reaches 0 at t = {when:.12g} (values {used}); "
+            text = f"L(t) = {length} reaches 0 at t = {when:.12g} (values {used}); " + tail(when)
         else:
-            head = (f"L(t) = {length} is not a finite positive length at t = {when:.12g} (a pole, or "
-                    f"the end of its real values; values {used}); ")
-        raise LengthReachesZeroError(head + tail(when) if kind == "zero" else
-                                     head + tail(when, ", where L is not finite"), when)
+            text = (f"L(t) = {length} is not a finite positive length at t = {when:.12g} (a pole, "
+                    f"or the end of its real values; values {used}); "
+                    + tail(when, ", where L is not finite"))
+        raise LengthReachesZeroError(text, when)
     short = length_floor_time(length, values, horizon)
     if short is not None:
         raise LengthReachesZeroError(
