@@ -52,6 +52,7 @@ no-figure copies show how much of the 3 s the computations alone take.
 """
 
 import argparse
+import contextlib
 import os
 import resource
 import shutil
@@ -124,13 +125,23 @@ def baseline_source(into, commit=BASELINE, paths=("src",), quiet=False):
     return Path(into) / "src"
 
 
-def issue_job(repeat, jobs=None):
-    """Time the job issue 10 timed: the scenes committed at FILED, built by ours and by FILED."""
-    tmp = Path(tempfile.mkdtemp(prefix="bench-issue-job-"))
+@contextlib.contextmanager
+def filed_tree(mode):
+    """(a temporary directory, the src/ of FILED extracted into it with its derivations/),
+    removed afterwards; exits naming ``mode`` when git cannot extract FILED."""
+    tmp = Path(tempfile.mkdtemp(prefix=f"bench{mode[1:]}-"))
     try:
         old_src = baseline_source(tmp, FILED, ("src", "derivations"), quiet=True)
         if old_src is None:
-            sys.exit(f"--issue-job: cannot extract {FILED} with git (a shallow clone?): nothing timed")
+            sys.exit(f"{mode}: cannot extract {FILED} with git (a shallow clone?): nothing timed")
+        yield tmp, old_src
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def issue_job(repeat, jobs=None):
+    """Time the job issue 10 timed: the scenes committed at FILED, built by ours and by FILED."""
+    with filed_tree("--issue-job") as (tmp, old_src):
         scenes = tmp / "derivations"
         names = ", ".join(p.stem for p in sorted(scenes.glob("*.toml")))
         print(f"the job issue 10 timed: the scenes committed at {FILED} ({names})")
@@ -161,8 +172,6 @@ def issue_job(repeat, jobs=None):
               f"({', '.join(differ)}); the work differs too: {FILED}'s quarter_periods also checked "
               "J1 Y2 - J2 Y1 = -2/(pi z) at 160 points (30 digits; now the bessel product's "
               "identities), and its floquet product used Hill's determinant, not arb balls")
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
 
 
 #: The time issue 10 gave for its job (pendulab at FILED on FILED's scenes), on its idle machine.
@@ -201,11 +210,7 @@ def figure_free_scenes(into):
 def issue_units(repeat, jobs=None):
     """The committed scenes, with and without figures, on the issue's scale (ISSUE_SECONDS
     for FILED's job): each of ours times ISSUE_SECONDS / FILED's time in the same round."""
-    tmp = Path(tempfile.mkdtemp(prefix="bench-issue-units-"))
-    try:
-        old_src = baseline_source(tmp, FILED, ("src", "derivations"), quiet=True)
-        if old_src is None:
-            sys.exit(f"--issue-units: cannot extract {FILED} with git (a shallow clone?): nothing timed")
+    with filed_tree("--issue-units") as (tmp, old_src):
         plain = tmp / "no-figures"
         plain.mkdir()
         off = figure_free_scenes(plain)
@@ -235,8 +240,6 @@ def issue_units(repeat, jobs=None):
             print(f"on the issue's scale, {'ours' if label == 'ours' else 'ours without figures'}: "
                   f"{min(values):.2f}-{max(values):.2f} s, median {statistics.median(values):.2f} s "
                   "(issue 10's target: 3 s)")
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def breakdown():
