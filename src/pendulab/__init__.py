@@ -8,7 +8,7 @@ The package is import-light: heavy modules (analyses, numerics) are imported
 only when asked for.
 """
 
-__version__ = "0.6.0"
+__version__ = "0.7.0"
 
 import os as _os
 

@@ -183,6 +183,7 @@ def build(target, out_root="generated", force=False, log=print, replace=False, j
         todo.append((sc, directory, digest))
     pending = []
     for (sc, directory, digest), (files, ran) in zip(todo, compute_scenes([t[0] for t in todo], jobs)):
+        _resolve_kept(sc, directory, files, log)
         manifest = {
             "scene": sc.name,
             "source": sources[sc.name],
@@ -212,6 +213,36 @@ def build(target, out_root="generated", force=False, log=print, replace=False, j
         where = exc.filename or root
         raise PendulabError(f"cannot write {where}: {exc.strerror or exc}") from None
     return status
+
+
+def _resolve_kept(scene, directory, files, log):
+    """Replace each :class:`pendulab.io.Kept` in ``files`` by the bytes published before in
+    ``directory`` when the manifest there shows they were made from the same inputs;
+    otherwise leave the file out.  One line of ``log`` for each."""
+    from pendulab.io import Kept
+    kept = [name for name, text in files.items() if isinstance(text, Kept)]
+    if not kept:
+        return
+    old = (_read_manifest(directory) or {}).get("files")
+    old = old if isinstance(old, dict) else {}
+    for name in kept:
+        wanted = files.pop(name)
+        same = all(old.get(k) == _sha(files[k]) for k in wanted.inputs if k in files) \
+            and all(k in files for k in wanted.inputs)
+        data = None
+        if same and name in old:
+            try:
+                data = (directory / name).read_bytes()
+            except OSError:
+                data = None
+            if data is not None and _sha(data) != old[name]:
+                data = None
+        if data is not None:
+            files[name] = data
+            log(f"{scene.name}: {wanted.reason}; {name} kept as built before from the same inputs")
+        else:
+            log(f"{scene.name}: {wanted.reason}; {name} not written (none was built before "
+                "from these inputs)")
 
 
 def _run(scene):

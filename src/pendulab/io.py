@@ -51,6 +51,20 @@ _TOKEN = re.compile(r"[0-9a-f]{16}\Z")
 _UNSUPPORTED = {errno.EINVAL, errno.ENOSYS, errno.ENOTSUP, errno.EOPNOTSUPP}
 
 
+class Kept:
+    """A product file that cannot be made on this machine (the PDF of the lecture notes
+    without TeX): the build keeps the copy it published before, if that copy was made
+    from the same ``inputs`` (the other files of the product, compared by the hashes
+    in manifest.json), and leaves the file out otherwise; it says which in one line
+    that ends with ``reason``."""
+
+    def __init__(self, name, inputs, reason):
+        self.name, self.inputs, self.reason = name, tuple(inputs), reason
+
+    def __repr__(self):
+        return f"Kept({self.name!r}, inputs={list(self.inputs)!r})"
+
+
 def canonical_json(obj):
     """JSON text with sorted keys, two-space indent and a final newline.
 

@@ -26,6 +26,7 @@ PRODUCTS = {
     "motion": "pendulab.products.motion",
     "kernels": "pendulab.products.kernels",
     "experiments": "pendulab.products.experiments",
+    "notes": "pendulab.products.notes",
 }
 
 

@@ -122,43 +122,75 @@ def document(ctx):
     return variable_length_document(system, eqs, form, ctx.get("closed_form"))
 
 
-def latex_fragment(ctx, title):
-    """An align* block with the derivation's equations (LaTeX, deterministic).
+#: The name of each step of :func:`latex_steps`, as the fragment prints it above its rows
+#: (the lecture notes put their own sentences there, in the scene's language).
+STEP_NAMES = {
+    "lagrangian": r"Lagrangian $T - V$ (000 eq. 2)",
+    "euler_lagrange": r"Euler--Lagrange equation, the source's grouping (000, before eq. 3)",
+    "eom": r"Equation of motion with $\omega_0^2 = m g l/I$ (000 eq. 3)",
+    "linear": r"Linearised about the inverted position (000 eq. 4)",
+    "mathieu": r"In $\tau = \omega t/2$: Mathieu's equation (000 eq. 7)",
+    "hill": r"In $\tau = \omega t/2$: a Hill equation, not Mathieu's",
+    "parameters": r"Mathieu's parameters $\theta_0$ and $\theta_1$ (000 eqs. 5-6)",
+    "lagrangian_string": r"Lagrangian $T - V$ of the point mass on the string",
+    "newton": r"Newton's law normal to the string (002 eq. 3)",
+    "linear_string": r"Small angles (002 eq. 4)",
+    "bessel_form": r"With $L$ as the variable, $L = L_0 + v_0 t$ (002 eq. 7)",
+    "general": r"General solution in Bessel functions (002)",
+    "particular": r"With $\theta(0) = \theta_0$, $\dot\theta(0) = 0$ (Cramer's rule, 002)",
+}
+
+
+def latex_steps(ctx):
+    """[(step, [align rows])] of the derivation, in order; the steps are keys of :data:`STEP_NAMES`.
 
     Long sums are broken across rows (:func:`pendulab.latex.sum_rows`) so that
-    the fragment stays within the text width (tests/test_latex.py compiles it).
+    every row stays within the text width (tests/test_latex.py compiles them).
     """
     from pendulab.latex import sum_rows
     system = ctx.get("system")
     eqs = ctx.get("equations")
     form = ctx.get("canonical")
-    rows = sum_rows(r"\mathcal{L}", eqs.lagrangian)
-    if ctx.scene.system == "kapitza":
-        rows += sum_rows("", eqs.source_form, 0)
-        rows += sum_rows("", eqs.eom, 0)
-        rows += [r"\omega_0^2 &= " + sp.latex(S.m * S.g * S.l / S.I)]
-        rows += sum_rows("", eqs.linear, 0)
-        rows += sum_rows("", form.equation, 0)
+    kapitza = ctx.scene.system == "kapitza"
+    steps = [("lagrangian" if kapitza else "lagrangian_string",
+              sum_rows(r"\mathcal{L}", eqs.lagrangian))]
+    if kapitza:
+        steps.append(("euler_lagrange", sum_rows("", eqs.source_form, 0)))
+        steps.append(("eom", sum_rows("", eqs.eom, 0)
+                      + [r"\omega_0^2 &= " + sp.latex(S.m * S.g * S.l / S.I)]))
+        steps.append(("linear", sum_rows("", eqs.linear, 0)))
         if form.kind == "mathieu":
-            rows += [r"\theta_0 &= " + sp.latex(form.theta0),
-                     r"\theta_1 &= " + sp.latex(form.theta1)
-                     + r" = " + sp.latex(sp.simplify(form.theta1.subs(S.I, system.inertia)))]
+            steps.append(("mathieu", sum_rows("", form.equation, 0)))
+            steps.append(("parameters", [
+                r"\theta_0 &= " + sp.latex(form.theta0),
+                r"\theta_1 &= " + sp.latex(form.theta1)
+                + r" = " + sp.latex(sp.simplify(form.theta1.subs(S.I, system.inertia)))]))
         elif form.kind == "hill":
-            rows += [r"&\text{(a Hill equation, not Mathieu's)}"]
+            steps.append(("hill", sum_rows("", form.equation, 0)))
     else:
-        rows += sum_rows("", eqs.source_form, 0)
-        rows += sum_rows("", eqs.linear, 0)
+        steps.append(("newton", sum_rows("", eqs.source_form, 0)))
+        steps.append(("linear_string", sum_rows("", eqs.linear, 0)))
         if form is not None:
-            rows += sum_rows("", form.euler_form, 0)
+            steps.append(("bessel_form", sum_rows("", form.euler_form, 0)))
         sol = ctx.get("closed_form")
         if sol is not None:
-            rows += sum_rows(r"\theta", sol.general_z)
-            rows += [r"z &= " + sp.latex(sol.z_of_L)]
-            rows += [r"\theta &= " + sp.latex(sol.particular_z)]
-            rows += [r"z_0 &= " + sp.latex(sol.z0)]
-    body = " \\\\\n".join(rows)
-    return (_BANNER.format(name=title)
-            + "\\begin{align*}\n" + body + "\n\\end{align*}\n")
+            steps.append(("general", sum_rows(r"\theta", sol.general_z)
+                          + [r"z &= " + sp.latex(sol.z_of_L)]))
+            steps.append(("particular", [r"\theta &= " + sp.latex(sol.particular_z),
+                                         r"z_0 &= " + sp.latex(sol.z0)]))
+    return steps
+
+
+def align_block(steps, names):
+    """One align* environment of ``steps``, each step's name from ``names`` set above its
+    rows (amsmath's \\intertext)."""
+    parts = [f"\\intertext{{{names[step]}:}}\n" + " \\\\\n".join(rows) for step, rows in steps]
+    return "\\begin{align*}\n" + " \\\\\n".join(parts) + "\n\\end{align*}\n"
+
+
+def latex_fragment(ctx, title):
+    """An align* block with the derivation's equations, each step named (LaTeX, deterministic)."""
+    return _BANNER.format(name=title) + align_block(latex_steps(ctx), STEP_NAMES)
 
 
 def produce(ctx, options):
@@ -168,3 +200,4 @@ def produce(ctx, options):
         "equations.json": canonical_json(doc),
         "equations.tex": latex_fragment(ctx, ctx.scene.name),
     }
+

@@ -163,9 +163,15 @@ def latex_table(doc):
             + "\\end{table}\n")
 
 
-@collector_paused
 def figure_svg(doc):
     """The limits drawn in the (a/l, omega0/omega) plane as deterministic SVG text."""
+    return figure(doc, "svg")
+
+
+@collector_paused
+def figure(doc, fmt="svg"):
+    """The limits drawn in the (a/l, omega0/omega) plane: deterministic SVG text, or PDF
+    bytes (``fmt = "pdf"``, for the lecture notes: no dates, labels in Computer Modern math)."""
     try:
         import matplotlib
     except ImportError:
@@ -177,8 +183,11 @@ def figure_svg(doc):
     import matplotlib.pyplot as plt
 
     styles = ["-", "--", "-.", ":"]
-    with matplotlib.rc_context({"svg.hashsalt": "pendulab", "svg.fonttype": "path",
-                                "figure.figsize": (6.0, 4.5), "font.size": 9}):
+    rc = {"svg.hashsalt": "pendulab", "svg.fonttype": "path", "figure.figsize": (6.0, 4.5),
+          "font.size": 9}
+    if fmt == "pdf":
+        rc.update({"figure.figsize": (5.4, 3.9), "mathtext.fontset": "cm", "pdf.fonttype": 42})
+    with matplotlib.rc_context(rc):
         fig, ax = plt.subplots()
         try:
             rho = doc["w0_over_w"]
@@ -197,11 +206,20 @@ def figure_svg(doc):
             ax.set_ylim(0, 1)
             ax.set_xlabel(r"$a/l$")
             ax.set_ylabel(r"$\omega_0/\omega$")
-            ax.set_title(y=1.0, label=f"Inverted pendulum, I/(m l^2) = {doc['inertia_ratio']}: "
-                         "stable between lower and upper")
+            if fmt == "pdf":  # the notes' caption says what the title would
+                ax.set_title(y=1.0, label=f"$I/(m l^2) = {doc['inertia_ratio']}$: stable between "
+                             "the lower and the upper limit of each method")
+            else:
+                ax.set_title(y=1.0, label=f"Inverted pendulum, I/(m l^2) = {doc['inertia_ratio']}: "
+                             "stable between lower and upper")
             ax.legend(loc="upper left", frameon=False)
-            buffer = io.StringIO()
-            fig.savefig(buffer, format="svg", metadata={"Date": None})
+            if fmt == "pdf":
+                from pendulab.figures import PDF_METADATA
+                buffer = io.BytesIO()
+                fig.savefig(buffer, format="pdf", metadata=PDF_METADATA)
+            else:
+                buffer = io.StringIO()
+                fig.savefig(buffer, format="svg", metadata={"Date": None})
         finally:
             plt.close(fig)
     return buffer.getvalue()
