@@ -197,7 +197,10 @@ def _arb_values(n_top, z, bits, derivatives=True):
     Y = [_accurate(lambda n=n: zb.bessel_y(n), bits + hb, bits + hb + g) for n in range(n_top + 1)]
     if not derivatives:
         return J, Y, [], []
-    with _Prec(64):  # bounds on the fourth derivatives on [z, z + 1/64 min(z, 1)]
+    # bounds on the fourth derivatives on [z, z + 1/64 min(z, 1)], at 64 bits plus the guard
+    # bits of the phase: at 64 bits alone arb cannot reduce z = 1e20 modulo 2 pi, its M_m
+    # ball is not finite and the derivative loop never ends
+    with _Prec(64 + g):
         M = [(J[m] ** 2 + Y[m] ** 2).sqrt() for m in range(n_top + 1)]
         for m in range(n_top + 1, n_top + 4):
             M.append((zb.bessel_j(m) ** 2 + zb.bessel_y(m) ** 2).sqrt())
