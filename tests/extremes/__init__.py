@@ -1,0 +1,1 @@
+"""Numerical stability at the extremes (docs/extremes.md): one module per topic."""
