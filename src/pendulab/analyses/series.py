@@ -88,15 +88,18 @@ def _radius_row(n):
     return _TABLE_28_6_1[max(n - 1, 0)] if n <= 7 else None
 
 
-def _table_radius(letter, m):
-    """Radius of convergence of the series of a_m or b_m from DLMF Table 28.6.1 (None if untabulated)."""
+def _table_radius(letter, m, text=False):
+    """Radius of convergence of the series of a_m or b_m from DLMF Table 28.6.1 (None if
+    untabulated): a float, or with ``text`` the table's decimal string."""
     if letter == "a" and m % 2 == 0:
         row, col = _radius_row(m // 2), 0
     elif letter == "b" and m % 2 == 0:
         row, col = _radius_row(m // 2 - 1), 1
     else:
         row, col = _radius_row((m - 1) // 2), 2
-    return None if row is None else float(row[col])
+    if row is None:
+        return None
+    return row[col] if text else float(row[col])
 
 
 #: kind -> radius (DLMF Table 28.6.1) for every tabulated kind
@@ -397,6 +400,7 @@ class CharacteristicSeries:
         self.order = order
         self.coefficients = dict(coefficients)
         self.radius = _table_radius(kind[0], int(kind[1:]))
+        self._radius_text = _table_radius(kind[0], int(kind[1:]), text=True)
         self.radius_source = ("DLMF Table 28.6.1" if self.radius is not None
                               else "not tabulated in DLMF Table 28.6.1")
 
@@ -448,7 +452,10 @@ class CharacteristicSeries:
         _check_dps(dps)
         with mpmath.workdps(dps + 10):
             qm = _mpf(q, "q")
-            if self.radius is not None and abs(qm) >= self.radius:
+            # the table's decimal and its double both count as the radius, so that q given
+            # as the table's text ("1.4687686138") or as that double is refused on both routes
+            if self.radius is not None and abs(qm) >= min(mpmath.mpf(self.radius),
+                                                          mpmath.mpf(self._radius_text)):
                 _domain(table.format(mpmath.nstr(abs(qm), 8)), on_domain)
             value = mpmath.mpf(0)
             for p in range(N, -1, -1):
