@@ -362,6 +362,23 @@ def _first_band_mp(th0, w):
     return _BANDS[key]
 
 
+def _power_of_two_bracket(h):
+    """(lo, h(lo)) with lo = 2^-k, h(lo) > 0 >= h(2 lo), for h decreasing in q on (0, 1]
+    with h(1) <= 0 < h(0+): the exponent k found by doubling, then by bisection."""
+    far = 1
+    while h(mpmath.ldexp(1, -far)) <= 0:
+        far *= 2
+    near = far // 2            # h(2^-near) <= 0 < h(2^-far)
+    while far - near > 1:
+        mid = (far + near) // 2
+        if h(mpmath.ldexp(1, -mid)) > 0:
+            far = mid
+        else:
+            near = mid
+    lo = mpmath.ldexp(1, -far)
+    return lo, h(lo)
+
+
 def _first_band_mp_once(th0, w):
     """|q| at the ends of the first band at theta0 = th0 (an mpf, th0 < 1), to w digits.
 
@@ -394,6 +411,12 @@ def _first_band_mp_once(th0, w):
                 hlo = -th0
             else:
                 hlo = h(lo) if lo > 0 else 1 - th0
+            if family == "a_even" and Q == 1 and abs(th0) < mpmath.mpf(10) ** -20:
+                # a root far below 1 (omega0/omega -> 0): bracket it within a factor 2 by
+                # bisecting the exponent, since Brent's method on [0, 1] approaches a root
+                # of 1e-200 by some thousand bisections (15 s at omega0/omega = 1e-300)
+                lo, hlo = _power_of_two_bracket(h)
+                Q = 2 * lo
             root, _ = _illinois(h, lo, Q, hlo, h(Q), mpmath.mpf(10) ** (-w) * Q)
             out.append(root)
         return tuple(out)
