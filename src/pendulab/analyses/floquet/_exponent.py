@@ -16,7 +16,7 @@ from pendulab.analyses.floquet._bands import _edge_count
 from pendulab.analyses.floquet._cf import _cf_u
 from pendulab.analyses.floquet._hill import _hill_y
 from pendulab.analyses.floquet._inputs import (
-    DOUBLE_DPS, METHODS, SIZE_LIMITS, _check_dps, _check_size, _exact, _is_array,
+    DOUBLE_DPS, MAX_DPS_LIMIT, METHODS, SIZE_LIMITS, _check_dps, _check_size, _exact, _is_array,
     _is_int_square, _is_zero, _mp,
 )
 from pendulab.analyses.floquet._monodromy import _monodromy_y
@@ -137,7 +137,9 @@ def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None)
         many), or one of the independent mpmath routes "hill", "cf",
         "monodromy" -- all four agree to the digits asked.
     max_dps : ceiling for the automatic growth of the working precision near
-        band edges (default 4*dps + 60).
+        band edges (default 4*dps + 60, and for 0 < |theta1| < 1 another
+        k (-log10|theta1|) + 2k + 1 digits, k = max(2, round(sqrt theta0)), at most
+        2000: the scale of the curves there is |theta1|^k).
 
     Raises InputError on bad arguments and PrecisionError when lam cannot be
     resolved to ``dps`` digits within ``max_dps``.
@@ -162,7 +164,7 @@ def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None)
         method = default_method(X0, X1, dps)
     want = DOUBLE_DPS if dps is None else dps
     if max_dps is None:
-        max_dps = 4 * want + 60
+        max_dps = min(4 * want + 60 + _small_theta1_digits(X0, X1), MAX_DPS_LIMIT)
     else:
         max_dps = _check_dps(max_dps, "max_dps")
 
@@ -230,6 +232,22 @@ def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None)
     lam_out, mults = _finish(lam, dps, want)
     return FloquetResult(lam_out, mults, bool(stable), bool(on_b), int(depth), method,
                          dps, int(w2), int(e))
+
+
+def _small_theta1_digits(X0, X1):
+    """Digits the default ceiling adds for 0 < |theta1| < 1: near theta0 = k^2 the curves
+    and the exponent's u = (lam - k)^2 vary on the scale |theta1|^max(k, 2) (a_0 = -q^2/2 +
+    ..., DLMF 28.6.1; a_k - b_k ~ 2 q^k/(2^(k-1) (k-1)!)^2, DLMF 28.6.15), so deciding a
+    side at theta1 = 2e-300 takes some 600 digits more than at theta1 = 0.2.  Only the
+    ceiling grows: a point decided earlier costs nothing more.  At most 2000 digits."""
+    if X1 == 0 or abs(X1) >= 1:
+        return 0
+    with mpmath.workdps(20):
+        x0, x1 = _mp(X0), abs(_mp(X1))
+        k = max(2, int(mpmath.nint(mpmath.sqrt(x0)))) if x0 > 4 else 2
+        if k > 2000:
+            return 2000
+        return min(int(k * -mpmath.log10(x1)) + 2 * k + 1, 2000)
 
 
 def default_method(X0, X1, dps):
