@@ -466,7 +466,8 @@ class CharacteristicSeries:
             if self.radius is None:
                 self._growth_check(float(max(abs(further[0]), abs(further[1]))),
                                    float(max(abs(further[-2]), abs(further[-1]))), float(qm), K, on_domain)
-        return +value, +est
+        with mpmath.workdps(dps):   # rounded to the dps asked, not to the caller's precision
+            return +value, +est
 
     def _growth_check(self, first, last, q, K, on_domain):
         import numpy as np
