@@ -116,6 +116,13 @@ def test_hill_needs_the_digits_of_cosh_pi_mu_minus_one_or_says_so():
         characteristic_exponent("4", "1e-30", dps=20, method="hill", max_dps=140)
 
 
+@pytest.mark.parametrize("method", ["hill", "cf"])
+def test_a_hair_off_the_curve_in_double_precision(method):
+    r = characteristic_exponent(4.0, 1e-30, method=method)
+    assert not r.stable and not r.on_boundary and r.lam.real == 2
+    assert r.lam.imag == pytest.approx(float(_mu("1e-30")), rel=1e-14)
+
+
 def test_monodromy_a_hair_off_the_curve():
     r = characteristic_exponent("4", "1e-3", dps=12, method="monodromy")
     with mpmath.workdps(40):
