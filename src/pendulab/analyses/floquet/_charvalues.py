@@ -77,40 +77,59 @@ def _double_char_value(family, j, qf):
     return float(vals[0]), int(np.argmax(np.abs(vecs[:, 0])))
 
 
-def _char_value_mp(family, j, q, w, guess=None):
+def _char_value_mp(family, j, q, w, guess=None, relative=False):
     """Characteristic value at dps w (inside an active workdps): the root of the
     two-sided continued fraction centred on the dominant Fourier coefficient
-    (the recurrences DLMF 28.4.5-28.4.8), bracketed around a double estimate."""
+    (the recurrences DLMF 28.4.5-28.4.8), bracketed around a double estimate.
+    To 10^-w relative (absolute below 1); with ``relative``, relative below 1 too."""
     qf = float(q)
     a0, centre = _double_char_value(family, j, qf)
     n = _family_size(j, qf, w + 5)
     n = max(n, centre + 3)
-    d, e2 = _family_diagonals(family, q, n, mpmath.mpf(1))
 
-    def G(a):
-        # continued fraction from row 0 up to the centre, and from the
-        # truncation depth down to the centre
-        low = 0
-        for i in range(centre):
-            denom = d[i] - a - low
-            low = e2[i] / denom
-        up = 0
-        for i in range(n - 1, centre, -1):
-            up = e2[i - 1] / (d[i] - a - up)
-        return d[centre] - a - low - up
+    def solve(A, scale, extra):
+        """The root near A to 10^-w * scale, with ``extra`` more working digits."""
+        with mpmath.workdps(w + extra):
+            d, e2 = _family_diagonals(family, +q, n, mpmath.mpf(1))
 
-    scale = max(1.0, abs(a0))
-    delta = mpmath.mpf(1e-11 * scale)
-    A = mpmath.mpf(a0)
-    for _ in range(40):
-        lo, hi = A - delta, A + delta
-        glo, ghi = G(lo), G(hi)
-        if (glo > 0) != (ghi > 0):
+            def G(a):
+                # continued fraction from row 0 up to the centre, and from the
+                # truncation depth down to the centre
+                low = 0
+                for i in range(centre):
+                    denom = d[i] - a - low
+                    low = e2[i] / denom
+                up = 0
+                for i in range(n - 1, centre, -1):
+                    up = e2[i - 1] / (d[i] - a - up)
+                return d[centre] - a - low - up
+
+            delta = mpmath.mpf(10) ** -11 * scale
+            for _ in range(60):
+                lo, hi = A - delta, A + delta
+                glo, ghi = G(lo), G(hi)
+                if (glo > 0) != (ghi > 0):
+                    break
+                delta *= 8
+            else:
+                raise ConvergenceError(f"could not bracket the characteristic value ({family}, "
+                                       f"{j}, q={qf})")
+            root, _ = _illinois(G, lo, hi, glo, ghi, mpmath.mpf(10) ** (-w) * scale)
+            # the root's size when it came out as 0: G's slope in a is about -1 there
+            return root, (abs(G(root)) if root == 0 else abs(root))
+
+    root, size = solve(mpmath.mpf(a0), mpmath.mpf(max(1.0, abs(a0))), 0)
+    # a value far below 1 (a_0 at tiny q: about -q^2/2) was found to 10^-w absolute only:
+    # solve again relative to its size, with as many more digits, until the size settles
+    # (the double start can be off by many orders there: -1e-50 for a_0(1e-40) = -5e-81,
+    # and 0 for a_0(1e-300))
+    extra = 0
+    while relative and size != 0 and size < mpmath.mpf(10) ** -5:
+        need = int(mpmath.ceil(-mpmath.log10(size))) + 2
+        if need <= extra or need > 20000:
             break
-        delta *= 8
-    else:
-        raise ConvergenceError(f"could not bracket the characteristic value ({family}, {j}, q={qf})")
-    root, _ = _illinois(G, lo, hi, glo, ghi, mpmath.mpf(10) ** (-w) * scale)
+        extra = need
+        root, size = solve(root, size, extra)
     return root
 
 
@@ -140,7 +159,7 @@ def _char_value(kind, m, q, dps, method=None):
     if v is None:
         def compute(w):
             with mpmath.workdps(w):
-                return _char_value_mp(family, j, _mp(Q), w)
+                return _char_value_mp(family, j, _mp(Q), w, relative=True)
 
         def accept(a, b, w2):
             with mpmath.workdps(w2):
