@@ -54,3 +54,15 @@ def test_a_wrong_value_at_1e300_is_caught(monkeypatch):
 def test_beyond_the_ends_is_refused_in_one_line(z):
     with pytest.raises(InputError, match="z must be a positive number"):
         bi.check_identities(1, 20, [z])
+
+
+def test_the_check_at_1e300_returns_within_a_minute():
+    # before the fix the derivative loop at z >= ~1e19 never ended: run it where a hang
+    # is a failure, not a stuck suite
+    import subprocess
+    import sys
+    code = ("from pendulab.analyses.bessel_identities import check_identities\n"
+            "r = check_identities(2, 30, [1e300], engines=('arb',))\n"
+            "print(r.arb_certified)\n")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stdout.strip() == "True", p.stderr
