@@ -106,7 +106,7 @@ def test_a_hair_off_the_curve_is_in_gap_2(q, method):
 
 def test_hill_needs_the_digits_of_cosh_pi_mu_minus_one_or_says_so():
     # q = 1e-30: cos(pi lam) - 1 ~ (pi mu)^2/2 ~ 1e-122, so u = -mu^2 needs ~145 digits: the
-    # default ceiling (4 dps + 60 + 2 (-log10 theta1) + 5 = 205) allows them; a ceiling below
+    # default ceiling (4 dps + 60 + 4 (-log10 theta1) + 5 = 265) allows them; a ceiling below
     # is refused in one line that names the remedy
     r = characteristic_exponent("4", "1e-30", dps=20, method="hill")
     with mpmath.workdps(40):
@@ -114,6 +114,16 @@ def test_hill_needs_the_digits_of_cosh_pi_mu_minus_one_or_says_so():
     with pytest.raises(PrecisionError, match=r"cannot resolve the digits of the exponent at "
                                              r"theta0=4, theta1=1e-30 with method 'hill'.*raise max_dps$"):
         characteristic_exponent("4", "1e-30", dps=20, method="hill", max_dps=140)
+
+
+@pytest.mark.parametrize("method", ["arb", "hill", "cf"])
+def test_far_closer_to_the_curve_is_still_decided(method):
+    # theta1 = 1e-100: mu = 4.7e-202, u = -mu^2 = -2e-403; the default ceiling
+    # (4 dps + 60 + 4 * 100 + 5 = 545) decides it
+    r = characteristic_exponent("4", "1e-100", dps=20, method=method)
+    with mpmath.workdps(40):
+        assert not r.stable and not r.on_boundary
+        assert abs(mpmath.im(r.lam) / _mu("1e-100") - 1) < mpmath.mpf(10) ** -18
 
 
 @pytest.mark.parametrize("method", ["hill", "cf"])

@@ -137,9 +137,9 @@ def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None)
         many), or one of the independent mpmath routes "hill", "cf",
         "monodromy" -- all four agree to the digits asked.
     max_dps : ceiling for the automatic growth of the working precision near
-        band edges (default 4*dps + 60, and for 0 < |theta1| < 1 another
-        k (-log10|theta1|) + 2k + 1 digits, k = max(2, round(sqrt theta0)), at most
-        2000: the scale of the curves there is |theta1|^k).
+        band edges (default 4*dps + 60, and for 0 < |theta1| < 1 except with
+        "monodromy" another 2k (-log10|theta1|) + 2k + 1 digits, k = max(2,
+        round(sqrt theta0)), at most 2000: the curves there are |theta1|^k apart).
 
     Raises InputError on bad arguments and PrecisionError when lam cannot be
     resolved to ``dps`` digits within ``max_dps``.
@@ -164,7 +164,9 @@ def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None)
         method = default_method(X0, X1, dps)
     want = DOUBLE_DPS if dps is None else dps
     if max_dps is None:
-        max_dps = min(4 * want + 60 + _small_theta1_digits(X0, X1), MAX_DPS_LIMIT)
+        # the Taylor monodromy's cost grows steeply with the digits: it keeps 4 dps + 60
+        extra = 0 if method == "monodromy" else _small_theta1_digits(X0, X1)
+        max_dps = min(4 * want + 60 + extra, MAX_DPS_LIMIT)
     else:
         max_dps = _check_dps(max_dps, "max_dps")
 
@@ -236,10 +238,12 @@ def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None)
 
 def _small_theta1_digits(X0, X1):
     """Digits the default ceiling adds for 0 < |theta1| < 1: near theta0 = k^2 the curves
-    and the exponent's u = (lam - k)^2 vary on the scale |theta1|^max(k, 2) (a_0 = -q^2/2 +
-    ..., DLMF 28.6.1; a_k - b_k ~ 2 q^k/(2^(k-1) (k-1)!)^2, DLMF 28.6.15), so deciding a
-    side at theta1 = 2e-300 takes some 600 digits more than at theta1 = 0.2.  Only the
-    ceiling grows: a point decided earlier costs nothing more.  At most 2000 digits."""
+    vary on the scale |theta1|^max(k, 2) (a_0 = -q^2/2 + ..., DLMF 28.6.1; a_k - b_k ~
+    2 q^k/(2^(k-1) (k-1)!)^2, DLMF 28.6.15), and inside such a gap u = (lam - k)^2, the
+    product of the distances to its two edges, on the square of it; so deciding a side at
+    theta1 = 2e-300 takes some 600 digits more than at theta1 = 0.2, and theta0 = 4 at
+    theta1 = 1e-100 some 400.  Only the ceiling grows: a point decided earlier costs
+    nothing more.  At most 2000 digits."""
     if X1 == 0 or abs(X1) >= 1:
         return 0
     with mpmath.workdps(20):
@@ -247,7 +251,7 @@ def _small_theta1_digits(X0, X1):
         k = max(2, int(mpmath.nint(mpmath.sqrt(x0)))) if x0 > 4 else 2
         if k > 2000:
             return 2000
-        return min(int(k * -mpmath.log10(x1)) + 2 * k + 1, 2000)
+        return min(int(2 * k * -mpmath.log10(x1)) + 2 * k + 1, 2000)
 
 
 def default_method(X0, X1, dps):
