@@ -236,6 +236,8 @@ def _rk4_counts(initial, grid=10, periods=300, steps=100):
 def check_fig3(c, _):
     found = tuple(float(x) for x in c.found_expr)
     printed = tuple(float(x) for x in c.printed_expr)
+    # 000 sec. 4: the text's 14-pair initial condition, the one Fig. 5's caption repeats
+    assert found == (0.06, 0.01)
     at_found, at_printed = _rk4_counts([found, printed])
     # the text: 14 stable pairs at Fig. 3's initial condition; chaotic cells may tip by one
     assert abs(at_found - 14) <= 1
