@@ -65,6 +65,8 @@ def build_parser():
                     help="smaller grids (under a minute); prints, writes nothing unless --write")
     ap.add_argument("--write", action="store_true", help="with --quick: write the doc anyway")
     ap.add_argument("--no-write", action="store_true", help="print the tables only")
+    ap.add_argument("--redraw", action="store_true",
+                    help="measure nothing: rewrite the doc and figures from docs/tradeoffs.json")
     return ap
 
 
@@ -154,7 +156,8 @@ def part_series(quick):
                 rows.append({"nu": nu, "theta1": th1, "order": n, "dps": dps, "error": err,
                              "estimate": float(est), "refused": bool(caught),
                              "evaluate": t, "generate": generate[n], "time": t})
-    return {"rows": rows, "orders": orders, "points": points, "reference": "theta0_of_exponent dps 50"}
+    return {"rows": rows, "orders": orders, "points": points,
+            "reference": "theta0_of_exponent dps 50"}
 
 
 def series_markdown(res):
@@ -252,8 +255,9 @@ def part_rk4(quick):
         (tt, st), t1 = best_time(lambda: integrate.rk4_trajectory(fos, y0, p, 0.0, T / spp,
                                                                   periods * spp), 3)
         err = float(np.max(np.abs(st[::spp // base] - ref)))
-        _, te = best_time(lambda: integrate.ensemble_rk4(fos, np.tile(y0, (ens_n, 1)), np.tile(p, (ens_n, 1)), 0.0,
-                                                         T / spp, periods * spp), 2 if quick else 3)
+        _, te = best_time(lambda: integrate.ensemble_rk4(fos, np.tile(y0, (ens_n, 1)),
+                                                         np.tile(p, (ens_n, 1)), 0.0, T / spp,
+                                                         periods * spp), 2 if quick else 3)
         rows.append({"method": "rk4", "setting": spp, "error": err, "time": t1,
                      "per_trajectory": te / ens_n})
     for rtol in rtols:
@@ -261,7 +265,8 @@ def part_rk4(quick):
                                                                   atol=rtol * 1e-2), 1)
         rows.append({"method": "dop853", "setting": rtol, "error": float(np.max(np.abs(out - ref))),
                      "time": t, "per_trajectory": t})
-    return {"rows": rows, "periods": periods, "reference_time": t_ref, "reference_spread": ref_spread,
+    return {"rows": rows, "periods": periods, "reference_time": t_ref,
+            "reference_spread": ref_spread,
             "ensemble": ens_n, "backend": "c" if integrate.c_kernel_available(fos) else "numpy"}
 
 
@@ -362,7 +367,8 @@ def part_floquet(quick):
         errs.append(_rel(complex(r.lam), refs[p]))
         ts.append(t)
         method = r.method
-    routes.append({"method": f"{method} (dps=None, the default)", "dps": None, "log_error": max(errs),
+    routes.append({"method": f"{method} (dps=None, the default)", "dps": None,
+                   "log_error": max(errs),
                    "time": sum(ts) / len(ts), "depth": None})
     rng = np.random.default_rng(7)
     n = 2000 if quick else 20000
@@ -416,8 +422,10 @@ def part_floquet(quick):
                 e_hi = float(abs(out[1] - hi) / hi) if out[1] is not None else None
                 lim_rows.append({"ratio": ratio, "method": m, "lower_error": e_lo,
                                  "upper_error": e_hi, "time": t,
-                                 "error": None if e_hi is None or e_lo is None else max(e_lo, e_hi)})
-    return {"routes": routes, "cf": cf_rows, "limits": lim_rows, "points": [list(p) for p in points],
+                                 "error": (None if e_hi is None or e_lo is None
+                                           else max(e_lo, e_hi))})
+    return {"routes": routes, "cf": cf_rows, "limits": lim_rows,
+            "points": [list(p) for p in points],
             "reference_dps": top, "vector_points": n}
 
 
@@ -464,7 +472,8 @@ def floquet_markdown(res):
               "| depth N | degree | error (worst point) | solve per point | derive |",
               "|---|---|---|---|---|"]
     for r in res["cf"]:
-        lines.append(f"| {r['depth']} | {r['degree']} | {sci_log(r['log_error'])} | {ms(r['time'])} | "
+        lines.append(f"| {r['depth']} | {r['degree']} | {sci_log(r['log_error'])} | "
+                     f"{ms(r['time'])} | "
                      f"{ms(r['generate'])} |")
     cf = res["cf"]
     arb = {r["dps"]: r for r in res["routes"] if r["method"] == "arb"}
@@ -519,8 +528,8 @@ def part_bessel(quick):
     rows = []
     grid = default_grid(20, near_zeros=False)
     for dps in dps_list:
-        (z1, z2), t_arb = best_time(lambda: (bessel_zeros(1, count, dps), bessel_zeros(2, count, dps)),
-                                    2)
+        (z1, z2), t_arb = best_time(lambda: (bessel_zeros(1, count, dps),
+                                             bessel_zeros(2, count, dps)), 2)
         mp_strings, t_mp = best_time(lambda: mpmath_loop(count, dps), 1)
         with mpmath.workdps(dps + 20):  # the reference: mpmath's root finder, 20 more digits
             ref = [[mpmath.nstr(mpmath.besseljzero(n, k), dps, strip_zeros=False)
@@ -531,7 +540,8 @@ def part_bessel(quick):
         rep_m, t_im = best_time(lambda: check_identities(2, dps, grid, engines=("mpmath",)), 1)
         rows.append({"dps": dps, "arb": t_arb, "mpmath": t_mp, "wrong_arb": wrong_arb,
                      "wrong_mpmath": wrong_mp, "id_arb": t_ia, "id_mpmath": t_im,
-                     "id_arb_worst": float(rep_a.worst[0]), "id_mpmath_worst": float(rep_m.worst[0]),
+                     "id_arb_worst": float(rep_a.worst[0]),
+                     "id_mpmath_worst": float(rep_m.worst[0]),
                      "id_certified": bool(rep_a.arb_certified)})
     return {"rows": rows, "count": count, "grid": len(grid)}
 
@@ -553,7 +563,8 @@ def bessel_markdown(res):
     for r in res["rows"]:
         lines.append(f"| {r['dps']} | {ms(r['arb'])} | {ms(r['mpmath'])} | "
                      f"{r['mpmath'] / r['arb']:.1f}x | {r['wrong_arb']}, {r['wrong_mpmath']} | "
-                     f"{ms(r['id_arb'])} | {ms(r['id_mpmath'])} | {r['id_mpmath'] / r['id_arb']:.1f}x "
+                     f"{ms(r['id_arb'])} | {ms(r['id_mpmath'])} | "
+                     f"{r['id_mpmath'] / r['id_arb']:.1f}x "
                      f"| {sci(r['id_arb_worst'])}, {sci(r['id_mpmath_worst'])} |")
     rows = res["rows"]
     rz = [r["mpmath"] / r["arb"] for r in rows]
@@ -634,9 +645,11 @@ def kernels_markdown(res):
              "`rhs_numpy.py` (NumPy's sin) in a plain NumPy RK4 loop (benchmarks/bench_rk4.py's "
              "baseline A); its signed means differ from the kernel's by the rounding of the sine "
              "(*deviation*: median and largest over the n trajectories; the largest is that of "
-             "a chaotic cell, which amplifies a last-bit difference, docs/numerics.md).  Error against the reference: the same for all three (section 2).", "",
-             "| n | C | NumPy kernel | readable module | NumPy kernel / C | readable / C | same bits "
-             "| deviation of the mean: median, max |", "|---|---|---|---|---|---|---|---|"]
+             "a chaotic cell, which amplifies a last-bit difference, docs/numerics.md).  "
+             "Error against the reference: the same for all three (section 2).", "",
+             "| n | C | NumPy kernel | readable module | NumPy kernel / C | readable / C "
+             "| same bits | deviation of the mean: median, max |",
+             "|---|---|---|---|---|---|---|---|"]
     for r in res["rows"]:
         note = " (scaled from a tenth of the steps)" if r["scaled"] else ""
         lines.append(f"| {r['n']} | {ms(r['c'])} | {ms(r['numpy'])} | {ms(r['readable'])}{note} | "
@@ -691,7 +704,8 @@ def tasks(results):
                              f"{ms(rk['time'])}; {ms(rk['per_trajectory'])} per trajectory in an "
                              "ensemble)")
             if dp:
-                parts.append(f"DOP853 rtol {dp['setting']:g} ({sci(dp['error'])}, {ms(dp['time'])})")
+                parts.append(f"DOP853 rtol {dp['setting']:g} ({sci(dp['error'])}, "
+                             f"{ms(dp['time'])})")
             out.append((f"{r['data']['periods']} drive periods of motion to {target:g}",
                         "; ".join(parts) or "none measured", "rk4"))
     f = results.get("floquet")
@@ -738,14 +752,16 @@ def tasks(results):
         big = max(k["data"]["rows"], key=lambda x: x["n"])
         one = min(k["data"]["rows"], key=lambda x: x["n"])
         out.append((f"RK4 ensembles (n = {one['n']} .. {big['n']})",
-                    f"the C kernel: {one['numpy'] / one['c']:.0f}x to {big['numpy'] / big['c']:.0f}x "
+                    f"the C kernel: {one['numpy'] / one['c']:.0f}x to "
+                    f"{big['numpy'] / big['c']:.0f}x "
                     "faster than its NumPy twin, same bits", "kernels"))
     return out
 
 
 #: the defaults this page checks: (where, what it is for); where is "limits:NAME" (the
 #: default of pendulab.limits.LIMITS[NAME]), "module:function(parameter)" (a signature's
-#: default) or "module:NAME" (a module attribute).  tests/test_tradeoffs_doc.py compares the
+#: default), "module:OPTIONS[key]" (a product option's default) or "module:NAME" (a module
+#: attribute).  tests/test_tradeoffs_doc.py compares the
 #: values the doc prints with the code's.
 DEFAULTS = [
     ("limits:experiments.steps_per_period", "RK4 steps per drive period of sweeps, experiments, "
@@ -754,7 +770,8 @@ DEFAULTS = [
     ("pendulab.numerics.integrate:reference_trajectory(rtol)", "the DOP853 reference"),
     ("limits:series.order", "order of the series product"),
     ("limits:notes.series_order", "order of the notes' series section"),
-    ("pendulab.analyses.floquet:characteristic_exponent(dps)", "lambda without dps: route \"hill\""),
+    ("pendulab.analyses.floquet:characteristic_exponent(dps)",
+     "lambda without dps: route \"hill\""),
     ("limits:floquet.dps", "digits of the floquet product"),
     ("pendulab.analyses.floquet:stability_limits(dps)", "limits without dps: proved doubles"),
     ("limits:bessel.dps", "digits of the bessel product"),
@@ -762,6 +779,7 @@ DEFAULTS = [
     ("limits:stability.methods", "methods the stability product compares"),
     ("pendulab.analyses.variable_length_motion:RTOL", "DOP853 rtol of the string's motion "
      "(product motion)"),
+    ("pendulab.products.floquet:OPTIONS[method]", "route of the floquet product"),
 ]
 
 
@@ -777,6 +795,8 @@ def default_value(where):
     if "(" in name:
         fn, param = name[:-1].split("(")
         return inspect.signature(getattr(mod, fn)).parameters[param].default
+    if name.startswith("OPTIONS["):
+        return mod.OPTIONS[name[len("OPTIONS["):-1]][1]
     return getattr(mod, name)
 
 
@@ -791,7 +811,7 @@ def verdicts(results):
         if at:
             out["limits:experiments.steps_per_period"] = (
                 f"error {sci(at['error'])} over {r['data']['periods']} periods: enough for the "
-                "criteria it serves (|mean theta| < 0.1, max |theta| < pi/2: errors far below "
+                "criteria it serves (abs(mean theta) < 0.1, max abs(theta) < pi/2: errors far below "
                 "0.01) and the source's own setting (000 sec. 4); motion to 1e-8 needs "
                 + (f"{need['setting']}" if need else "more") + " steps per period. Follows, "
                 "for its use.")
@@ -800,7 +820,8 @@ def verdicts(results):
             out["pendulab.numerics.integrate:reference_trajectory(rtol)"] = (
                 f"rtol 1e-12 already gives {sci(min(x['error'] for x in dp))} against it; as the "
                 "reference that measures RK4 it must be the most accurate setting: follows.")
-        out["limits:experiments.periods"] = "the source's 300 periods (000 sec. 4); not an accuracy setting."
+        out["limits:experiments.periods"] = ("the source's 300 periods (000 sec. 4); not an "
+                                             "accuracy setting.")
         out["pendulab.analyses.variable_length_motion:RTOL"] = (
             "the motion product compares the integration with 002's closed form, so it needs "
             "the reference's accuracy; on the pivot above rtol 1e-12 is within "
@@ -811,8 +832,11 @@ def verdicts(results):
         rows = [x for x in s["data"]["rows"] if x["dps"] is None and x["order"] == 8]
         txt = ", ".join(f"{sci(x['error'])} at theta1 = {x['theta1']} (nu = {x['nu']})"
                         for x in rows[:3])
+        ok = [x["theta1"] for x in rows if x["nu"] == 0.5 and x["error"] <= 1e-6]
+        reach = (f"1e-6 up to theta1 = {max(ok)} at nu = 0.5 among those measured" if ok
+                 else "1e-6 at none of the points measured")
         out["limits:series.order"] = (
-            f"order 8 gives {txt}: 1e-6 for theta1 <= 0.3 only.  The product writes exact "
+            f"order 8 gives {txt}: {reach}.  The product writes exact "
             "coefficients, whose cost grows fast with N, and whoever evaluates them picks "
             "the order; a product default, not an accuracy promise: follows.")
         out["limits:notes.series_order"] = "as series.order (the notes show the series): follows."
@@ -841,8 +865,18 @@ def verdicts(results):
                 f"per point, error {sci_log(dflt['log_error'])}); arb at dps 17 takes "
                 f"{ms(a17['time'])} ({dflt['time'] / a17['time']:.0f}x less), every digit "
                 f"proved (error {sci_log(a17['log_error'])})."
-                + ("" if follows else "  Without dps, the arb route at 17 digits rounded to a "
-                   "double would be as accurate and that much cheaper."))
+                + ("" if follows else "  Without dps, the arb route at 17 digits (within its "
+                   "size limit abs(theta0) + 2 abs(theta1) <= 3e4), rounded to a double, would be as "
+                   "accurate and that much cheaper."))
+        arbs = {x["dps"]: x for x in routes if x["method"] == "arb"}
+        mps = [x for x in routes if x["method"] in ("hill", "cf", "monodromy")
+               and x["dps"] in arbs]
+        if mps:
+            ratios = [x["time"] / arbs[x["dps"]]["time"] for x in mps]
+            out["pendulab.products.floquet:OPTIONS[method]"] = (
+                "auto is arb with the product's dps (within arb's size limit), the cheapest "
+                f"route measured: {min(ratios):.0f}x to {max(ratios):.0f}x cheaper than the "
+                "mpmath routes at the same dps, and proved: follows.")
         a30 = next((x for x in routes if x["method"] == "arb" and x["dps"] == 30), None)
         a15 = next((x for x in routes if x["method"] == "arb" and x["dps"] == 15), None)
         if a30 and a15:
@@ -993,11 +1027,13 @@ def document(results):
             "reproduces it.  Times are wall-clock seconds on a shared 2-core machine, best of a "
             "few runs; they move with the load, so compare within a table (the ratios), not "
             "across runs.  Errors are against independent references named with each table.", "",
-            "| part | run (UTC) | load average | seconds |", "|---|---|---|---|"]
+            "| part | run (UTC) | mode | load average | seconds |", "|---|---|---|---|---|"]
     for part in PARTS:
         if part in results:
             r = results[part]
-            head.append(f"| {part} | {r['date']} | {r['load']:.1f} | {r['seconds']:.0f} |")
+            mode = "quick" if r["quick"] else "full"
+            head.append(f"| {part} | {r['date']} | {mode} | {r['load']:.1f} | "
+                        f"{r['seconds']:.0f} |")
     head += ["", "## The cheapest setting for each task", "",
              "| task | cheapest setting measured (error, time) | command |", "|---|---|---|"]
     for task, got, part in tasks(results):
@@ -1031,12 +1067,13 @@ def main(argv=None):
     results = {}
     if write and RESULTS.exists():
         results = json.loads(RESULTS.read_text())
-    for part in parts:
+    for part in [] if args.redraw else parts:
         t = time.perf_counter()
         print(f"== {part} ==", flush=True)
         data = RUN[part](args.quick)
         results[part] = {"data": data, "seconds": time.perf_counter() - t,
-                         "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M"),
+                         "date": datetime.datetime.now(datetime.timezone.utc)
+                                                  .strftime("%Y-%m-%d %H:%M"),
                          "load": os.getloadavg()[0], "quick": args.quick}
         print(MARKDOWN[part](data), flush=True)
     text = document(results)

@@ -39,11 +39,12 @@ def _text():
 
 
 def _tables(text):
-    """[(index of the table's first line, [rows as lists of cells])] of the markdown tables."""
+    """[(index of the header line, header line, [rows as lists of cells])] of the tables."""
     lines = text.splitlines()
     out, i = [], 0
     while i < len(lines):
-        if lines[i].startswith("|") and i + 1 < len(lines) and re.match(r"^\|[-| ]+\|$", lines[i + 1]):
+        rule = i + 1 < len(lines) and re.match(r"^\|[-| ]+\|$", lines[i + 1])
+        if lines[i].startswith("|") and rule:
             start, rows = i, []
             i += 2
             while i < len(lines) and lines[i].startswith("|"):
@@ -108,6 +109,8 @@ def _code_default(where):
     if "(" in name:
         fn, param = name[:-1].split("(")
         return inspect.signature(getattr(mod, fn)).parameters[param].default
+    if name.startswith("OPTIONS["):  # a product option: (type, default, help)
+        return mod.OPTIONS[name[len("OPTIONS["):-1]][1]
     return getattr(mod, name)
 
 
@@ -142,6 +145,13 @@ def test_a_changed_default_is_noticed(monkeypatch):
     assert _code_default(where) != value
 
 
+def test_every_table_row_has_the_cells_of_its_header():
+    for _, head, rows in _tables(_text()):
+        width = head.count(" | ") + 1
+        for row in rows:
+            assert len(row) == width, f"a row of '{head}' has {len(row)} cells: {row}"
+
+
 def test_every_checked_default_has_a_verdict():
     for _, head, rows in _tables(_text()):
         if head.startswith("| default |"):
@@ -151,6 +161,7 @@ def test_every_checked_default_has_a_verdict():
 
 @pytest.mark.parametrize("where", ["limits:series.order",
                                    "pendulab.numerics.integrate:reference_trajectory(rtol)",
-                                   "pendulab.analyses.variable_length_motion:RTOL"])
+                                   "pendulab.analyses.variable_length_motion:RTOL",
+                                   "pendulab.products.floquet:OPTIONS[method]"])
 def test_the_script_and_the_test_read_a_default_alike(where):
     assert _script().default_value(where) == _code_default(where)
