@@ -165,3 +165,14 @@ def test_every_checked_default_has_a_verdict():
                                    "pendulab.products.floquet:OPTIONS[method]"])
 def test_the_script_and_the_test_read_a_default_alike(where):
     assert _script().default_value(where) == _code_default(where)
+
+
+def test_the_front_and_the_cheapest_setting_are_picked_as_the_page_says():
+    script = _script()
+    # (cost, error): (3, 4) is beaten by (2, 3); (5, 1) ties (4, 1) in error at a higher cost
+    points = [(1, 5), (2, 3), (3, 4), (4, 1), (5, 1)]
+    assert script.pareto(points) == [0, 1, 3]
+    rows = [{"time": 1, "error": 1e-3}, {"time": 5, "error": 1e-9},
+            {"time": 3, "error": 1e-7, "refused": True}, {"time": 4, "error": 1e-7}]
+    assert script.cheapest(rows, 1e-6) is rows[3]   # the refused value does not count
+    assert script.cheapest(rows, 1e-12) is None
