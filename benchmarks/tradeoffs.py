@@ -1110,10 +1110,13 @@ def main(argv=None):
         print(text.split("## 1.")[0])
         return 0
     FIGURES.mkdir(parents=True, exist_ok=True)
-    for name, svg in figures(results).items():
-        (FIGURES / name).write_text(svg)
-    RESULTS.write_text(json.dumps(results, indent=1, sort_keys=True) + "\n")
-    DOC.write_text(text)
+    files = {FIGURES / name: svg for name, svg in figures(results).items()}
+    files[RESULTS] = json.dumps(results, indent=1, sort_keys=True) + "\n"
+    files[DOC] = text
+    for path, content in files.items():  # each file whole or not at all (temp file + rename)
+        tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+        tmp.write_text(content)
+        os.replace(tmp, path)
     print(f"wrote {DOC.relative_to(ROOT)}, {RESULTS.relative_to(ROOT)} and figures in "
           f"{FIGURES.relative_to(ROOT)}/")
     return 0
