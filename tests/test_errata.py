@@ -12,6 +12,9 @@ are the sources' own, as reference, never fed to pendulab.
 """
 
 import math
+import re
+import shutil
+import subprocess
 
 import mpmath
 import numpy as np
@@ -62,6 +65,34 @@ def test_every_entry_has_every_field_in_both_languages():
         # the builders flag a computation that did not confirm them with "[...]"
         assert "[" not in e["evidence"].replace("\\left[", "").replace("\\right]", ""), e["evidence"]
         assert "nan" not in e["evidence"].lower()
+
+
+def _outside_math(tex):
+    return re.sub(r"\$[^$]*\$", "", tex)
+
+
+def test_the_text_fields_are_latex_text():
+    """where, evidence and the sentences go into running text: math only between $...$."""
+    for e in errata.entries():
+        for value in (e["where"], e["evidence"], e["text"]["en"], e["text"]["pt"]):
+            assert value.count("$") % 2 == 0, value
+            bare = _outside_math(value)
+            assert not set(bare) & set("^_#%&\\{}"), (value, bare)
+
+
+@pytest.mark.skipif(shutil.which("pdflatex") is None, reason="pdflatex not installed")
+def test_the_entries_compile(tmp_path):
+    items = []
+    for e in errata.entries():
+        items.append(f"\\paragraph{{{e['source']}, {e['where']}.}} {e['text']['en']} {e['text']['pt']}\n"
+                     f"\\begin{{itemize}}\\item ${e['printed']}$\n\\item ${e['found']}$\n"
+                     f"\\item {e['evidence']}\n\\end{{itemize}}\n")
+    doc = ("\\documentclass{article}\\usepackage[utf8]{inputenc}"
+           "\\usepackage{amsmath,amssymb}\\begin{document}\n" + "".join(items) + "\\end{document}\n")
+    (tmp_path / "e.tex").write_text(doc)
+    res = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "e.tex"],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stdout[-3000:]
 
 
 def test_entries_are_fresh_dicts():
@@ -411,14 +442,14 @@ CHECKS = {
     ("000", "eq. 14"): check_eq14,
     ("000", "eq. 16"): check_eq16,
     ("000", "eq. 19"): check_eq19,
-    ("000", "after eq. 19, psi_M"): check_psi_m,
+    ("000", r"after eq. 19, $\psi_M$"): check_psi_m,
     ("000", "sec. 4, Fig. 3 caption"): check_fig3,
     ("002", "before eqs. 5 and 7, equation numbers"): check_references,
     ("002", "eq. 7"): check_eq7,
-    ("002", "Demonstração, series of Y_1"): check_y1,
-    ("002", "Consequência, B"): check_b,
-    ("002", "Consequência, theta(z)"): check_theta_z,
-    ("002", "Consequência, C"): check_c,
+    ("002", "Demonstração, series of $Y_1$"): check_y1,
+    ("002", "Consequência, $B$"): check_b,
+    ("002", r"Consequência, $\theta(z)$"): check_theta_z,
+    ("002", "Consequência, $C$"): check_c,
     ("002", "item 1"): check_item1,
     ("002", "Figure 1 caption"): check_caption,
     ("002", "quarter periods, the unit"): check_unit,
