@@ -23,9 +23,12 @@ NUMBERED = {"000": 28, "002": 7}
 _N = r"\d{1,2}(?![\d_])"
 _ITEM = rf"{_N}(?:\s*(?:-{{1,2}}|–|to)\s*{_N})?"
 CITATION = re.compile(
-    r"(?<![\d_])(000|002)(?:_[0-9a-f]{16}\.txt)?,?\s+(?:(after|before)\s+)?eqs?\.\s*"
+    r"(?<![\d_])(000|002)(?:_[0-9a-f]{16}\.txt)?"      # the source, by number or file name
+    r"(?:\s+sec\.\s*[\d.]*\d)?,?\s+"                    # "000 sec. 2.3, eqs. 13-19"
+    r"(?:(?:[A-Za-z]+\s+){0,3}?(after|before)\s+)?"       # "000, the Lagrangian after eq. 2"
+    r"eqs?\.(?:\s|~)*"                                   # "eq. 7", LaTeX's "eq.~7"
     rf"({_ITEM}(?:\s*(?:,|and)\s*(?!00[02]\b){_ITEM})*)")
-HEADING = re.compile(r"^### (000|002)(,)? (?:(after|before) )?eq\. (\d+)\b", re.M)
+HEADING = re.compile(r"^### (000|002)\b(.*)$", re.M)
 
 
 def _numbers(items):
@@ -49,13 +52,15 @@ def citations(text):
 
 
 def documented():
-    """The same two sets, from the headings of docs/sources.md."""
+    """The same two sets, from the headings of docs/sources.md: "### 000 eq. 19" is an
+    equation, "### 000, after eq. 26 (before eq. 27)" a place named both ways."""
     numbered, placed = set(), set()
-    for source, _comma, place, n in HEADING.findall(SOURCES_MD.read_text()):
-        if place:
+    for source, rest in HEADING.findall(SOURCES_MD.read_text()):
+        number = re.match(r" eq\. (\d+)\b", rest)
+        if number:
+            numbered.add((source, int(number.group(1))))
+        for place, n in re.findall(r"\b(after|before) eq\. (\d+)\b", rest):
             placed.add((source, place, int(n)))
-        else:
-            numbered.add((source, int(n)))
     return numbered, placed
 
 
@@ -78,11 +83,12 @@ def test_the_parser_reads_ranges_lists_and_places():
     # built by concatenation so that this file itself cites nothing it does not mean
     text = ("see (000" + " eqs. 20-22, 27 and 31) and 002" + " eq. 4; 000," + " after eq. 10; 002,"
             + " before eq. 7 and 000_8cba66c4fdf94ac6.txt" + " eq. 5; 000" + " eq. 19 and 002"
-            + " eq. 3")
+            + " eq. 3; 000" + " sec. 2.3, eqs. 13-14; 002" + " eqs.~5--6; 000," + " the text before eq. 11")
     numbered, placed = citations(text)
     assert numbered == {("000", 20), ("000", 21), ("000", 22), ("000", 27), ("000", 31),
-                        ("002", 4), ("000", 5), ("000", 19), ("002", 3)}
-    assert placed == {("000", "after", 10), ("002", "before", 7)}
+                        ("002", 4), ("000", 5), ("000", 19), ("002", 3), ("000", 13), ("000", 14),
+                        ("002", 5), ("002", 6)}
+    assert placed == {("000", "after", 10), ("002", "before", 7), ("000", "before", 11)}
 
 
 def test_every_numbered_equation_has_an_entry():
