@@ -178,7 +178,7 @@ def build(target, out_root="generated", force=False, log=print, replace=False, j
         digest = input_hash(sc)
         if not force and _up_to_date(directory, digest, sources[sc.name]):
             status[sc.name] = "up to date"
-            log(f"{sc.name}: up to date ({directory})")
+            log(f"{sc.name}: up to date ({directory}){_headlines(sc, directory)}")
             continue
         todo.append((sc, directory, digest))
     pending = []
@@ -208,11 +208,25 @@ def build(target, out_root="generated", force=False, log=print, replace=False, j
                 write_tree(directory, files, have_lock=True)
                 status[sc.name] = "built"
                 log(f"{sc.name}: built {len(files)} files in {directory} "
-                    f"(stages: {', '.join(ran) or 'none'})")
+                    f"(stages: {', '.join(ran) or 'none'}){_headlines(sc, directory)}")
     except OSError as exc:
         where = exc.filename or root
         raise PendulabError(f"cannot write {where}: {exc.strerror or exc}") from None
     return status
+
+
+def _headlines(scene, directory):
+    """"; <what>: <path>" for each file a product of ``scene`` names as the one a reader
+    opens first (a product module's ``HEADLINE``, e.g. the notes' PDF), where it exists."""
+    from pendulab.pipeline import PRODUCTS, product_module
+    said = []
+    for name in sorted(scene.products):
+        if name not in PRODUCTS:
+            continue
+        what, filename = getattr(product_module(name), "HEADLINE", (None, None))
+        if filename and (directory / filename).is_file():
+            said.append(f"; {what}: {directory / filename}")
+    return "".join(said)
 
 
 def _resolve_kept(scene, directory, files, log):

@@ -50,10 +50,20 @@ OPTIONS = {
     "pdf": (bool, True, "compile notes.pdf where pdflatex or latexmk is installed"),
 }
 SYSTEMS = ("kapitza",)
+#: what ``pendulab build`` prints after the scene's line: the file a reader opens
+HEADLINE = ("the notes", "notes.pdf")
 
 #: 002 (its last page): the differences of squares of zeros it lists as the first quarter
 #: periods, inward and outward in turn, in the unit v0/(4 g); the notes set them beside ours.
 SOURCE_QUARTER_PERIODS = ("22.8438", "21.6315", "32.6495", "31.5213", "42.5001", "41.3994")
+
+#: 000 sec. 2.2: the Mathieu parameters the source gives for its Fig. 2 (a rod 10 cm long,
+#: 6 mm pivot amplitude at 86 Hz), set beside the ones derived from the scene's values
+SOURCE_FIG2_VALUES = ("-2e-3", "0.2")
+SOURCE_FIG2 = {"theta0": r"-2 \times 10^{-3}", "theta1": "0.2"}
+
+#: the string's direction (pendulab.analyses.bessel_periods) in the Portuguese notes
+DIRECTION_PT = {"growing": "que cresce", "shortening": "que encurta"}
 
 #: SI unit of each physical symbol a scene's [values] may give (LaTeX, siunitx-free)
 UNITS = {"l": r"\mathrm{m}", "a": r"\mathrm{m}", "omega": r"\mathrm{s^{-1}}",
@@ -130,6 +140,17 @@ def strip_banner(tex):
     return "\n".join(lines).strip("\n")
 
 
+#: LaTeX's special characters in running text, and what prints each as itself
+_TEXT_SPECIALS = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",
+                  "_": r"\_", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}",
+                  "^": r"\textasciicircum{}"}
+
+
+def plain(text):
+    """Plain ``text`` as LaTeX that prints it as it is (special characters escaped)."""
+    return "".join(_TEXT_SPECIALS.get(ch, ch) for ch in text)
+
+
 def labelled(tex, label):
     """A product's table float with ``\\label{label}`` after its caption (so the text can
     refer to it)."""
@@ -171,16 +192,19 @@ def _pivot(ctx, options):
     if ctx.scene.values and form.kind == "mathieu":
         from pendulab.numerics.model import mathieu_parameters
         given = {str(k): v for k, v in ctx.scene.values.items()}
-        values = [(sp.latex(sp.Symbol(k)), sp.latex(v) if v.is_Rational else number(v),
-                   UNITS.get(k, "")) for k, v in sorted(given.items())]
+        values = [(sp.latex(sp.Symbol(k)), number(v), UNITS.get(k, ""))
+                  for k, v in sorted(given.items())]
         th0, th1 = mathieu_parameters(ctx.get("equations"), form, values=given, groups=False)
         if th0.is_number and th1.is_number:
-            groups = {"theta0": number(th0, 4), "theta1": number(th1, 4)}
+            groups = {"theta0": number(th0, 4), "theta1": number(th1, 4),
+                      # the source's values are these to one significant digit
+                      "rounded": all(float(f"{float(ours):.1g}") == float(theirs) for ours, theirs
+                                     in ((th0, SOURCE_FIG2_VALUES[0]), (th1, SOURCE_FIG2_VALUES[1])))}
     return {"tex": render("pivot", options["language"], steps=steps, body=system.body,
                           inertia=sp.latex(system.inertia),
                           inertia_ratio=sp.latex(sp.simplify(system.inertia_ratio)),
                           drive=sp.latex(system.drive), kind=form.kind, values=values,
-                          groups=groups, omega0=sp.latex(S.m * S.g * S.l / S.I)),
+                          groups=groups, source_fig2=SOURCE_FIG2, omega0=sp.latex(S.m * S.g * S.l / S.I)),
             "files": {}}
 
 
@@ -228,7 +252,7 @@ def experiments_options(options):
     from pendulab.products.experiments import OPTIONS as EXPERIMENTS
     opts = {key: default for key, (_kind, default, _help) in EXPERIMENTS.items()}
     opts.update({"grid": options["grid"], "prune": True, "figures": options["figures"],
-                 "backend": "numpy", "first_experiment": False})
+                 "backend": "auto", "first_experiment": False, "labels": "math"})
     return opts
 
 
@@ -241,21 +265,37 @@ def _simulations(ctx, options):
     made = experiments.produce(ctx, opts)
     doc = json.loads(made["experiments.json"])
     files = {k: v for k, v in made.items() if k.endswith(".pdf")}
+    # the Floquet verdict is never integrated: its column of zeros is left out
+    integrated = [c for c in opts["criteria"] if c != "floquet"]
     maps = []
     for name in opts["maps"]:
         m = doc["maps"][name]
         theta, omega = INITIAL[name]
         maps.append({"name": name, "theta": theta, "omega": omega,
                      "counts": [m["counts"][c] for c in opts["criteria"]],
-                     "simulated": m["simulated"],
+                     "integrated": [m["simulated"][c] for c in integrated],
                      "figure": experiments.MAP_FILES[name] + ".pdf" if files else None})
+    # which criteria give the source's count at each initial condition it names (grid 10 only)
+    source_match = []
+    if opts["grid"] == 10:
+        for name in opts["maps"]:
+            key = INITIAL[name]
+            if key in SOURCE_COUNTS:
+                counts = doc["maps"][name]["counts"]
+                source_match.append({"theta": key[0], "omega": key[1], "source": SOURCE_COUNTS[key],
+                                     "criteria": [c for c in opts["criteria"]
+                                                  if counts[c] == SOURCE_COUNTS[key]]})
     fig5 = doc.get("fig5")
-    fig5_rows = [(n, number(fig5["max_error_vs_rk4"][n], 2), number(fig5["series_estimate"][n], 2))
+    fig5_rows = [(n, number(fig5["nu"][n], 6), number(fig5["max_error_vs_rk4"][n], 2),
+                  number(fig5["max_error_vs_rk4_linear"][n], 2),
+                  number(fig5["series_estimate"][n], 2))
                  for n in sorted(fig5["max_error_vs_rk4"], key=int)] if fig5 else []
     return {"tex": render("simulations", options["language"], maps=maps, criteria=opts["criteria"],
+                          integrated=integrated,
                           grid=opts["grid"], periods=opts["periods"],
                           steps=opts["steps_per_period"], source=SOURCE_COUNTS,
-                          fig5=fig5, fig5_rows=fig5_rows,
+                          fig5=fig5, fig5_rows=fig5_rows, source_match=source_match,
+                          kernel=opts["backend"],
                           fig5_file="fig5.pdf" if "fig5.pdf" in files else None,
                           fig2=doc.get("fig2"),
                           fig2_file="fig2.pdf" if "fig2.pdf" in files else None,
@@ -298,8 +338,10 @@ def _string(ctx, options):
                           identities=labelled(strip_banner(made["bessel_identities.tex"]),
                                               "tab:identities"),
                           claim_holds=q["claim_holds"], direction=q["direction"],
-                          margin_before=min(q["margin_before"], key=float)[:8],
-                          margin_after=min(q["margin_after"], key=float)[:8],
+                          direction_pt=DIRECTION_PT.get(q["direction"], q["direction"]),
+                          margin_before=number(min(q["margin_before"], key=float)),
+                          margin_after=number(min(q["margin_after"], key=float)),
+                          z_low=number(ident["z_range"][0], 3), z_high=number(ident["z_range"][1], 3),
                           shown=len(q["inward"]), source_pairs=pairs,
                           worst=ident["worst_relative_error"], dps=ident["dps"],
                           agreements=ident["engine_agreements"], points=ident["points"],
@@ -309,7 +351,9 @@ def _string(ctx, options):
 
 def _errata(ctx, options):
     from pendulab.products.errata import entries
-    return {"tex": render("errata", options["language"], entries=entries()), "files": {}}
+    shown = [dict(e, where=plain(e["where"]), text={k: plain(v) for k, v in e["text"].items()})
+             for e in entries()]
+    return {"tex": render("errata", options["language"], entries=shown), "files": {}}
 
 
 def _references(ctx, options):
@@ -413,7 +457,8 @@ def _first_error(directory):
             log = f.read()
     except OSError:
         return "no log written"
+    import re
     for line in log.splitlines():
-        if line.startswith("!") or ":" in line and "error" in line.lower():
+        if line.startswith("!") or re.match(r"\S*\.tex:\d+: ", line):
             return line.strip()[:200]
     return "see its log"

@@ -186,7 +186,7 @@ def figure(doc, fmt="svg"):
     rc = {"svg.hashsalt": "pendulab", "svg.fonttype": "path", "figure.figsize": (6.0, 4.5),
           "font.size": 9}
     if fmt == "pdf":
-        rc.update({"figure.figsize": (5.4, 3.9), "mathtext.fontset": "cm", "pdf.fonttype": 42})
+        rc.update({"figure.figsize": (5.4, 3.9), "mathtext.fontset": "cm"})
     with matplotlib.rc_context(rc):
         fig, ax = plt.subplots()
         try:
@@ -206,10 +206,7 @@ def figure(doc, fmt="svg"):
             ax.set_ylim(0, 1)
             ax.set_xlabel(r"$a/l$")
             ax.set_ylabel(r"$\omega_0/\omega$")
-            if fmt == "pdf":  # the notes' caption says what the title would
-                ax.set_title(y=1.0, label=f"$I/(m l^2) = {doc['inertia_ratio']}$: stable between "
-                             "the lower and the upper limit of each method")
-            else:
+            if fmt != "pdf":  # the notes' caption says what the title would
                 ax.set_title(y=1.0, label=f"Inverted pendulum, I/(m l^2) = {doc['inertia_ratio']}: "
                              "stable between lower and upper")
             ax.legend(loc="upper left", frameon=False)
