@@ -12,6 +12,9 @@ are the sources' own, as reference, never fed to pendulab.
 """
 
 import math
+import re
+import shutil
+import subprocess
 
 import mpmath
 import numpy as np
@@ -62,6 +65,37 @@ def test_every_entry_has_every_field_in_both_languages():
         # the builders flag a computation that did not confirm them with "[...]"
         assert "[" not in e["evidence"].replace("\\left[", "").replace("\\right]", ""), e["evidence"]
         assert "nan" not in e["evidence"].lower()
+
+
+def _outside_math(tex):
+    return re.sub(r"\$[^$]*\$", "", tex)
+
+
+def test_the_text_fields_are_what_the_notes_expect():
+    """where and the sentences are plain text (the notes escape them); the evidence is LaTeX
+    text, math only between $...$."""
+    for e in errata.entries():
+        for value in (e["where"], e["text"]["en"], e["text"]["pt"]):
+            assert not set(value) & set("$\\~{}"), value
+        assert e["evidence"].count("$") % 2 == 0, e["evidence"]
+        bare = _outside_math(e["evidence"])
+        assert not set(bare) & set("^_#%&\\{}"), (e["evidence"], bare)
+
+
+@pytest.mark.skipif(shutil.which("pdflatex") is None, reason="pdflatex not installed")
+def test_the_entries_compile(tmp_path):
+    from pendulab.products.notes import plain
+    items = []
+    for e in errata.entries():
+        items.append(f"\\paragraph{{{e['source']}, {plain(e['where'])}.}} {plain(e['text']['en'])} "
+                     f"{plain(e['text']['pt'])}\n\\begin{{align*}}\n&{e['printed']}\\\\\n"
+                     f"&{e['found']}\n\\end{{align*}}\n{e['evidence']}\n\n")
+    doc = ("\\documentclass{article}\\usepackage[utf8]{inputenc}"
+           "\\usepackage{amsmath,amssymb}\\begin{document}\n" + "".join(items) + "\\end{document}\n")
+    (tmp_path / "e.tex").write_text(doc)
+    res = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "e.tex"],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stdout[-3000:]
 
 
 def test_entries_are_fresh_dicts():
@@ -415,7 +449,7 @@ CHECKS = {
     ("000", "sec. 4, Fig. 3 caption"): check_fig3,
     ("002", "before eqs. 5 and 7, equation numbers"): check_references,
     ("002", "eq. 7"): check_eq7,
-    ("002", "Demonstração, series of Y_1"): check_y1,
+    ("002", "Demonstração, series of Y1"): check_y1,
     ("002", "Consequência, B"): check_b,
     ("002", "Consequência, theta(z)"): check_theta_z,
     ("002", "Consequência, C"): check_c,

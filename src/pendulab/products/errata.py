@@ -9,9 +9,11 @@
      "evidence": LaTeX/text of the computation, its numbers computed now,
      "text": {"en": one sentence, "pt": the same in Portuguese}}
 
-LaTeX is math without ``$`` delimiters in ``printed`` and ``found``; in
-``evidence`` math stands between ``$`` (it mixes words and formulas).  The
-notes' errata section (:mod:`pendulab.products.notes`) typesets them.
+``printed`` and ``found`` are LaTeX math without ``$`` delimiters (the notes
+set them in an ``align*``); ``evidence`` is LaTeX text, its math between
+``$``; ``where`` and the sentences are plain text, which the notes escape
+(:func:`pendulab.products.notes.plain`).  The notes' errata section
+(:mod:`pendulab.products.notes`) typesets them.
 
 Where a formula is at stake, ``found`` is SymPy's LaTeX of the expression the
 analyses derive (:mod:`pendulab.analyses.averaging`,
@@ -423,8 +425,8 @@ def _eq7():
                 data={"residual_L": sol.residual_L})
 
 
-def _y1_series(half):
-    """Y_1(z) as 002 prints its series (``half`` False) or with the sum halved."""
+def _y1_parts():
+    """The pieces of the series of Y_1 that 002 prints: (log term, -1/z - z/4, the sum)."""
     import sympy as sp
 
     from pendulab import symbols as S
@@ -432,9 +434,21 @@ def _y1_series(half):
     z = S.z
     total = sp.Sum((-1)**(n - 1) * (sp.harmonic(n) + sp.harmonic(n + 1))
                    / (sp.factorial(n) * sp.factorial(n + 1)) * (z / 2)**(2 * n + 1), (n, 1, sp.oo))
-    if half:
-        total = sp.Rational(1, 2) * total
-    return 2 / sp.pi * ((sp.log(z / 2) + sp.EulerGamma) * sp.besselj(1, z) - 1 / z - z / 4 + total)
+    return (sp.log(z / 2) + sp.EulerGamma) * sp.besselj(1, z), -1 / z - z / 4, total
+
+
+def _y1_series(half):
+    """Y_1(z) as 002 prints its series (``half`` False) or with the sum halved (DLMF 10.8.1)."""
+    import sympy as sp
+    log_term, poles, total = _y1_parts()
+    return 2 / sp.pi * (log_term + poles + (sp.Rational(1, 2) if half else 1) * total)
+
+
+def _y1_tex(half):
+    """:func:`_y1_series` typeset in the source's order, the bracket kept."""
+    log_term, _, total = _y1_parts()
+    return (r"Y_1(z) = \frac{2}{\pi}\left[" + _tex(log_term) + r" - \frac{1}{z} - \frac{z}{4} + "
+            + (r"\frac{1}{2}" if half else "") + _tex(total) + r"\right]")
 
 
 #: 002 "Demonstração": the z where the evidence sums the series of Y_1.
@@ -463,11 +477,9 @@ def _y1():
                 rf"{_num(values['found'])}; $Y_1({Y1_Z}) = {_num(y1)}$ (arb ball, python-flint)"
                 f"{'' if contains else ' [the ball does not decide]'}; the limit $D = 2/\\pi$ "
                 r"uses only the terms $-1/z$ and $J_1$, so it is not affected.")
-    y = sp.bessely(1, S.z)
-    return Case("002", "Demonstração, series of Y_1", _tex(sp.Eq(y, printed, evaluate=False)),
-                _tex(sp.Eq(y, found, evaluate=False)), evidence,
-                "The series of Y_1 lacks the factor 1/2 in front of its sum (DLMF 10.8.1).",
-                "A série de Y_1 perde o fator 1/2 diante do seu somatório (DLMF 10.8.1).",
+    return Case("002", "Demonstração, series of Y1", _y1_tex(False), _y1_tex(True), evidence,
+                "The series of Y1 lacks the factor 1/2 in front of its sum (DLMF 10.8.1).",
+                "A série de Y1 perde o fator 1/2 diante do seu somatório (DLMF 10.8.1).",
                 printed, found, point={"z": float(Y1_Z)},
                 data={"printed": values["printed"], "found": values["found"], "Y1": y1,
                       "ball_decides": contains})
@@ -506,10 +518,10 @@ def _theta_z():
                 rf"(the initial condition), the printed one ${_num(at_printed)}\,\theta_0 = z_0^2\theta_0$.")
     return Case("002", "Consequência, theta(z)", r"\theta = " + _tex(printed), r"\theta = " + _tex(found),
                 evidence,
-                "The solution carries z^-1, not z, as the general solution does; the same slip "
-                "repeats in the B = 0 case.",
-                "A solução carrega z^-1, não z, como a solução geral; o mesmo deslize se repete no "
-                "caso B = 0.",
+                "The solution carries 1/z, not z, as the general solution does; the same slip "
+                "repeats in the case B = 0.",
+                "A solução carrega 1/z, não z, como a solução geral; o mesmo deslize se repete "
+                "no caso B = 0.",
                 printed, found, point={"z": 4.0, "z0": 3.0, "theta_0": 0.1},
                 data={"at_found": at_found, "at_printed": at_printed})
 
@@ -534,8 +546,8 @@ def _constant_c():
                 rf"$\theta = {_tex(theta_b0)}$, $z = {_tex(z_t)}$; found over printed $C$: "
                 rf"${_tex(ratio)}$.")
     return Case("002", "Consequência, C", "C = " + _tex(printed), "C = " + _tex(c_found), evidence,
-                "The constant C lacks the factor v0/(2 sqrt g) that z^-1 brings in.",
-                "A constante C perde o fator v0/(2 sqrt g) que z^-1 introduz.",
+                "The constant C lacks the factor v0/(2 sqrt(g)) that 1/z brings in.",
+                "A constante C perde o fator v0/(2 sqrt(g)) que 1/z introduz.",
                 printed, c_found, point={"g": 9.81, "L0": 0.5, "v0": 0.05, "theta_0": 0.1},
                 data={"found_over_printed": ratio})
 
@@ -560,8 +572,8 @@ def _item1():
                 r"\theta = 0 \text{ where } J_1(z) = 0", evidence,
                 "The pendulum passes theta = 0 where J1(z) vanishes; d theta/dz = 0 marks its "
                 "turning points (item 2).",
-                "O pêndulo passa por theta = 0 onde J1(z) se anula; d theta/dz = 0 marca os pontos "
-                "de retorno (item 2).",
+                "O pêndulo passa por theta = 0 onde J1(z) se anula; d theta/dz = 0 marca os "
+                "pontos de retorno (item 2).",
                 data={"theta_at_j22": at_j2, "theta_at_j12": at_j1})
 
 
