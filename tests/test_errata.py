@@ -71,25 +71,22 @@ def _outside_math(tex):
     return re.sub(r"\$[^$]*\$", "", tex)
 
 
-def test_the_text_fields_are_what_the_notes_expect():
-    """where and the sentences are plain text (the notes escape them); the evidence is LaTeX
-    text, math only between $...$."""
+def test_the_text_fields_are_latex_text():
+    """where, evidence and the sentences go into running text: math only between $...$."""
     for e in errata.entries():
-        for value in (e["where"], e["text"]["en"], e["text"]["pt"]):
-            assert not set(value) & set("$\\~{}"), value
-        assert e["evidence"].count("$") % 2 == 0, e["evidence"]
-        bare = _outside_math(e["evidence"])
-        assert not set(bare) & set("^_#%&\\{}"), (e["evidence"], bare)
+        for value in (e["where"], e["evidence"], e["text"]["en"], e["text"]["pt"]):
+            assert value.count("$") % 2 == 0, value
+            bare = _outside_math(value)
+            assert not set(bare) & set("^_#%&\\{}"), (value, bare)
 
 
 @pytest.mark.skipif(shutil.which("pdflatex") is None, reason="pdflatex not installed")
 def test_the_entries_compile(tmp_path):
-    from pendulab.products.notes import plain
     items = []
     for e in errata.entries():
-        items.append(f"\\paragraph{{{e['source']}, {plain(e['where'])}.}} {plain(e['text']['en'])} "
-                     f"{plain(e['text']['pt'])}\n\\begin{{align*}}\n&{e['printed']}\\\\\n"
-                     f"&{e['found']}\n\\end{{align*}}\n{e['evidence']}\n\n")
+        items.append(f"\\paragraph{{{e['source']}, {e['where']}.}} {e['text']['en']} {e['text']['pt']}\n"
+                     f"\\begin{{itemize}}\\item ${e['printed']}$\n\\item ${e['found']}$\n"
+                     f"\\item {e['evidence']}\n\\end{{itemize}}\n")
     doc = ("\\documentclass{article}\\usepackage[utf8]{inputenc}"
            "\\usepackage{amsmath,amssymb}\\begin{document}\n" + "".join(items) + "\\end{document}\n")
     (tmp_path / "e.tex").write_text(doc)
@@ -445,14 +442,14 @@ CHECKS = {
     ("000", "eq. 14"): check_eq14,
     ("000", "eq. 16"): check_eq16,
     ("000", "eq. 19"): check_eq19,
-    ("000", "after eq. 19, psi_M"): check_psi_m,
+    ("000", r"after eq. 19, $\psi_M$"): check_psi_m,
     ("000", "sec. 4, Fig. 3 caption"): check_fig3,
     ("002", "before eqs. 5 and 7, equation numbers"): check_references,
     ("002", "eq. 7"): check_eq7,
-    ("002", "Demonstração, series of Y1"): check_y1,
-    ("002", "Consequência, B"): check_b,
-    ("002", "Consequência, theta(z)"): check_theta_z,
-    ("002", "Consequência, C"): check_c,
+    ("002", "Demonstração, series of $Y_1$"): check_y1,
+    ("002", "Consequência, $B$"): check_b,
+    ("002", r"Consequência, $\theta(z)$"): check_theta_z,
+    ("002", "Consequência, $C$"): check_c,
     ("002", "item 1"): check_item1,
     ("002", "Figure 1 caption"): check_caption,
     ("002", "quarter periods, the unit"): check_unit,

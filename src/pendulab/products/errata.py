@@ -9,11 +9,9 @@
      "evidence": LaTeX/text of the computation, its numbers computed now,
      "text": {"en": one sentence, "pt": the same in Portuguese}}
 
-``printed`` and ``found`` are LaTeX math without ``$`` delimiters (the notes
-set them in an ``align*``); ``evidence`` is LaTeX text, its math between
-``$``; ``where`` and the sentences are plain text, which the notes escape
-(:func:`pendulab.products.notes.plain`).  The notes' errata section
-(:mod:`pendulab.products.notes`) typesets them.
+LaTeX is math without ``$`` delimiters in ``printed`` and ``found``; in
+``evidence`` math stands between ``$`` (it mixes words and formulas).  The
+notes' errata section (:mod:`pendulab.products.notes`) typesets them.
 
 Where a formula is at stake, ``found`` is SymPy's LaTeX of the expression the
 analyses derive (:mod:`pendulab.analyses.averaging`,
@@ -174,10 +172,10 @@ def _eq13():
     evidence = (r"the zero-mean periodic solution of $I\ddot\delta = \tau_i(\psi)$; for the rod "
                 rf"($I = \tfrac43 m l^2$) $\delta = {_tex(rod)}$, ${_tex(ratio)}$ times the printed one.")
     return Case("000", "eq. 13", r"\delta = " + _tex(printed), r"\delta = " + _tex(found), evidence,
-                "The fast deviation has the amplitude (m l^2/I)(a/l) and the sign of the drive's "
-                "torque; the printed a/l is a point mass's amplitude, with the opposite sign.",
-                "O desvio rápido tem amplitude (m l^2/I)(a/l) e o sinal do torque do forçamento; o "
-                "a/l impresso é a amplitude de uma massa pontual, com o sinal oposto.",
+                r"The fast deviation has the amplitude $(m l^2/I)(a/l)$ and the sign of the drive's "
+                r"torque; the printed $a/l$ is a point mass's amplitude, with the opposite sign.",
+                r"O desvio rápido tem amplitude $(m l^2/I)(a/l)$ e o sinal do torque do forçamento; o "
+                r"$a/l$ impresso é a amplitude de uma massa pontual, com o sinal oposto.",
                 printed, found,
                 point={"a": 0.01, "l": 0.5, "m": 1.0, "I": 1 / 3, "psi": 0.3, "omega": 20.0, "t": 0.1},
                 data={"rod_over_printed": ratio})
@@ -215,9 +213,9 @@ def _eq14():
                 r"the same way (where $\theta$ grows) has the sign found.")
     return Case("000", "eq. 14", r"\tau_i = " + _tex(printed), r"\tau_i = " + _tex(found), evidence,
                 "The inertial torque, counted in the sense in which the gravitational torque is, "
-                "has the opposite sign; it cancels against the sign of eq. 13 in the average.",
+                "has the opposite sign; it cancels against the sign of eq.~13 in the average.",
                 "O torque inercial, contado no mesmo sentido do torque gravitacional, tem o sinal "
-                "oposto; ele se cancela com o sinal da eq. 13 na média.",
+                "oposto; ele se cancela com o sinal da eq.~13 na média.",
                 printed, found,
                 point={"m": 1.0, "a": 0.01, "l": 0.5, "omega": 20.0, r"\theta": 0.3, "t": 0.1})
 
@@ -239,10 +237,10 @@ def _eq16():
                 rf"$\langle\tau_i\rangle = {_tex(rod)}$, $\tfrac34$ of the printed one.")
     return Case("000", "eq. 16", r"\langle\tau_i\rangle = " + _tex(printed),
                 r"\langle\tau_i\rangle = " + _tex(found), evidence,
-                "The averaged inertial torque carries m l^2/I (from eq. 13's amplitude); as printed "
-                "it holds for a point mass only, and so does the averaged potential after it.",
-                "O torque inercial médio carrega m l^2/I (da amplitude da eq. 13); como impresso, "
-                "vale só para uma massa pontual, assim como o potencial médio que o segue.",
+                r"The averaged inertial torque carries $m l^2/I$ (from eq.~13's amplitude); as printed "
+                r"it holds for a point mass only, and so does the averaged potential after it.",
+                r"O torque inercial médio carrega $m l^2/I$ (da amplitude da eq.~13); como impresso, "
+                r"vale só para uma massa pontual, assim como o potencial médio que o segue.",
                 printed, found,
                 point={"m": 1.0, "a": 0.01, "l": 0.5, "omega": 20.0, "I": 1 / 3, "psi": 0.3},
                 data={"kapitza_agrees": agree})
@@ -279,9 +277,9 @@ def _eq19():
     al = S.a / S.l
     return Case("000", "eq. 19", _tex(sp.StrictGreaterThan(al, _physical(printed_rhs), evaluate=False)),
                 _tex(sp.StrictGreaterThan(al, _physical(found_rhs), evaluate=False)), evidence,
-                "Butikov's lower bound carries I/(m l^2), not its square root; the two agree only "
+                r"Butikov's lower bound carries $I/(m l^2)$, not its square root; the two agree only "
                 "for a point mass, and for the rod the exact Floquet limit sides with the found form.",
-                "O limite inferior de Butikov carrega I/(m l^2), não a sua raiz quadrada; as duas "
+                r"O limite inferior de Butikov carrega $I/(m l^2)$, não a sua raiz quadrada; as duas "
                 "formas coincidem só para a massa pontual, e para a barra o limite exato de Floquet "
                 "confirma a forma encontrada.",
                 printed_rhs, found_rhs,
@@ -313,10 +311,10 @@ def _psi_m():
     evidence = (rf"rod, $a/l = {PSI_M_A_OVER_L}$, $\omega_0/\omega = {EQ19_W0_OVER_W}$: printed "
                 rf"$\psi_M = {_num(values['printed'], 5)}^\circ$, found {_num(values['found'], 5)}$^\circ$, "
                 rf"maximum of Kapitza's $U_{{\rm eff}}$ at {_num(values['kapitza'], 5)}$^\circ$.")
-    return Case("000", "after eq. 19, psi_M", r"\psi_M = " + _tex(_physical(printed)),
+    return Case("000", r"after eq. 19, $\psi_M$", r"\psi_M = " + _tex(_physical(printed)),
                 r"\psi_M = " + _tex(_physical(found)), evidence,
-                "The angle of unstable equilibrium carries (I/(m l^2))^2, for the same reason as eq. 19.",
-                "O ângulo de equilíbrio instável carrega (I/(m l^2))^2, pela mesma razão da eq. 19.",
+                r"The angle of unstable equilibrium carries $(I/(m l^2))^2$, for the same reason as eq.~19.",
+                r"O ângulo de equilíbrio instável carrega $(I/(m l^2))^2$, pela mesma razão da eq.~19.",
                 printed, found,
                 point={"inertia_ratio": float(r), "w0_over_w": float(rho), "a_over_l": float(al)},
                 data=values)
@@ -345,9 +343,9 @@ def _fig3():
     found = sp.Tuple(*[sp.Float(x) for x in FIG3_TEXT])
     return Case("000", "sec. 4, Fig. 3 caption", pair + "(" + ", ".join(FIG3_CAPTION) + ")",
                 pair + "(" + ", ".join(FIG3_TEXT) + ")", evidence,
-                "The caption of Fig. 3 swaps the initial angle and angular velocity that the text "
+                "The caption of Fig.~3 swaps the initial angle and angular velocity that the text "
                 "gives for that figure.",
-                "A legenda da Fig. 3 troca o ângulo e a velocidade angular iniciais que o texto dá "
+                "A legenda da Fig.~3 troca o ângulo e a velocidade angular iniciais que o texto dá "
                 "para essa figura.",
                 printed, found, data={"counts": dict(zip(("text", "caption"), counts))})
 
@@ -394,10 +392,10 @@ def _references():
     return Case("002", "before eqs. 5 and 7, equation numbers",
                 r"\text{solve (1); substitute (2), (3) in (1)}",
                 r"\text{solve (4); substitute (5), (6) in (4)}", evidence,
-                "The solution section cites eqs. 1-3 where it uses eq. 4 (the linear equation) and "
-                "eqs. 5-6 (the chain rule).",
-                "A seção de resolução cita as eqs. 1-3 onde usa a eq. 4 (a equação linear) e as "
-                "eqs. 5-6 (a regra da cadeia).",
+                "The solution section cites eqs.~1--3 where it uses eq.~4 (the linear equation) and "
+                "eqs.~5--6 (the chain rule).",
+                "A seção de resolução cita as eqs.~1--3 onde usa a eq.~4 (a equação linear) e as "
+                "eqs.~5--6 (a regra da cadeia).",
                 sp.Tuple(2, 3, 1), sp.Tuple(5, 6, 4), data={"length_equation": form.length_equation})
 
 
@@ -416,10 +414,10 @@ def _eq7():
                 rf"($\alpha = {_tex(form.alpha)}$, $\beta = {_tex(form.beta)}$, $k = {_tex(form.k)}$, "
                 rf"$p = {_tex(form.p)}$) fits.")
     return Case("002", "eq. 7", _tex(printed) + " = 0", _tex(found) + " = 0", evidence,
-                "Eq. 7 drops a factor L in its last term; the Bessel solution satisfies the "
-                "equation with g L/v0^2.",
-                "A eq. 7 perde um fator L no último termo; a solução de Bessel satisfaz a equação "
-                "com g L/v0^2.",
+                "Eq.~7 drops a factor $L$ in its last term; the Bessel solution satisfies the "
+                r"equation with $g L/v_0^2$.",
+                "A eq.~7 perde um fator $L$ no último termo; a solução de Bessel satisfaz a equação "
+                r"com $g L/v_0^2$.",
                 printed, found, point={"L": 2.0, r"\theta_{LL}": 0.3, r"\theta_L": -0.2,
                                        r"\theta": 0.5, "g": 9.81, "v0": 0.5},
                 data={"residual_L": sol.residual_L})
@@ -477,9 +475,9 @@ def _y1():
                 rf"{_num(values['found'])}; $Y_1({Y1_Z}) = {_num(y1)}$ (arb ball, python-flint)"
                 f"{'' if contains else ' [the ball does not decide]'}; the limit $D = 2/\\pi$ "
                 r"uses only the terms $-1/z$ and $J_1$, so it is not affected.")
-    return Case("002", "Demonstração, series of Y1", _y1_tex(False), _y1_tex(True), evidence,
-                "The series of Y1 lacks the factor 1/2 in front of its sum (DLMF 10.8.1).",
-                "A série de Y1 perde o fator 1/2 diante do seu somatório (DLMF 10.8.1).",
+    return Case("002", "Demonstração, series of $Y_1$", _y1_tex(False), _y1_tex(True), evidence,
+                r"The series of $Y_1$ lacks the factor $\tfrac12$ in front of its sum (DLMF 10.8.1).",
+                r"A série de $Y_1$ perde o fator $\tfrac12$ diante do seu somatório (DLMF 10.8.1).",
                 printed, found, point={"z": float(Y1_Z)},
                 data={"printed": values["printed"], "found": values["found"], "Y1": y1,
                       "ball_decides": contains})
@@ -495,9 +493,9 @@ def _constant_b():
     cramer = sol.cramer[S.B]
     evidence = (rf"Cramer's rule gives $B = {_tex(cramer)}$, and with "
                 rf"$J_1 Y_2 - J_2 Y_1 = {_tex(sol.cross)}$ (proved by SymPy) $B = {_tex(found)}$.")
-    return Case("002", "Consequência, B", "B = " + _tex(printed), "B = " + _tex(found), evidence,
-                "With the cross product -2/(pi z0), Cramer's rule gives B with a plus sign.",
-                "Com o produto cruzado -2/(pi z0), a regra de Cramer dá B com sinal positivo.",
+    return Case("002", "Consequência, $B$", "B = " + _tex(printed), "B = " + _tex(found), evidence,
+                r"With the cross product $-2/(\pi z_0)$, Cramer's rule gives $B$ with a plus sign.",
+                r"Com o produto cruzado $-2/(\pi z_0)$, a regra de Cramer dá $B$ com sinal positivo.",
                 printed, found, point={"theta_0": 0.1, "z0": 3.0})
 
 
@@ -516,12 +514,12 @@ def _theta_z():
         at_printed = sp.N(printed.subs({S.z: z0, S.z0: z0, S.theta_0: 1}), 15)
     evidence = (rf"at $z = z_0 = {z0}$ the found form gives $\theta = {_num(at_found)}\,\theta_0$ "
                 rf"(the initial condition), the printed one ${_num(at_printed)}\,\theta_0 = z_0^2\theta_0$.")
-    return Case("002", "Consequência, theta(z)", r"\theta = " + _tex(printed), r"\theta = " + _tex(found),
+    return Case("002", r"Consequência, $\theta(z)$", r"\theta = " + _tex(printed), r"\theta = " + _tex(found),
                 evidence,
-                "The solution carries 1/z, not z, as the general solution does; the same slip "
-                "repeats in the case B = 0.",
-                "A solução carrega 1/z, não z, como a solução geral; o mesmo deslize se repete "
-                "no caso B = 0.",
+                "The solution carries $z^{-1}$, not $z$, as the general solution does; the same slip "
+                "repeats in the case $B = 0$.",
+                "A solução carrega $z^{-1}$, não $z$, como a solução geral; o mesmo deslize se repete "
+                "no caso $B = 0$.",
                 printed, found, point={"z": 4.0, "z0": 3.0, "theta_0": 0.1},
                 data={"at_found": at_found, "at_printed": at_printed})
 
@@ -545,9 +543,9 @@ def _constant_c():
     evidence = (r"the found $\theta(z)$ with $J_2(z_0) = 0$ written in $t$: "
                 rf"$\theta = {_tex(theta_b0)}$, $z = {_tex(z_t)}$; found over printed $C$: "
                 rf"${_tex(ratio)}$.")
-    return Case("002", "Consequência, C", "C = " + _tex(printed), "C = " + _tex(c_found), evidence,
-                "The constant C lacks the factor v0/(2 sqrt(g)) that 1/z brings in.",
-                "A constante C perde o fator v0/(2 sqrt(g)) que 1/z introduz.",
+    return Case("002", "Consequência, $C$", "C = " + _tex(printed), "C = " + _tex(c_found), evidence,
+                r"The constant $C$ lacks the factor $v_0/(2\sqrt g)$ that $z^{-1}$ brings in.",
+                r"A constante $C$ perde o fator $v_0/(2\sqrt g)$ que $z^{-1}$ introduz.",
                 printed, c_found, point={"g": 9.81, "L0": 0.5, "v0": 0.05, "theta_0": 0.1},
                 data={"found_over_printed": ratio})
 
@@ -570,9 +568,9 @@ def _item1():
                 f"{'' if abs(at_j1) < 1e-25 else ' [not]'}.")
     return Case("002", "item 1", r"\theta = 0 \text{ where } \frac{d\theta}{dz} = 0",
                 r"\theta = 0 \text{ where } J_1(z) = 0", evidence,
-                "The pendulum passes theta = 0 where J1(z) vanishes; d theta/dz = 0 marks its "
+                r"The pendulum passes $\theta = 0$ where $J_1(z)$ vanishes; $d\theta/dz = 0$ marks its "
                 "turning points (item 2).",
-                "O pêndulo passa por theta = 0 onde J1(z) se anula; d theta/dz = 0 marca os "
+                r"O pêndulo passa por $\theta = 0$ onde $J_1(z)$ se anula; $d\theta/dz = 0$ marca os "
                 "pontos de retorno (item 2).",
                 data={"theta_at_j22": at_j2, "theta_at_j12": at_j1})
 
@@ -589,8 +587,8 @@ def _figure_caption():
     x = sp.Symbol("x")
     return Case("002", "Figure 1 caption", r"J_0(\sqrt{x}),\ J_1(\sqrt{x})", r"J_1(\sqrt{x}),\ J_2(\sqrt{x})",
                 evidence,
-                "The figure caption names J0 and J1, while the text and the table use J1 and J2.",
-                "A legenda da figura nomeia J0 e J1, enquanto o texto e a tabela usam J1 e J2.",
+                "The figure caption names $J_0$ and $J_1$, while the text and the table use $J_1$ and $J_2$.",
+                "A legenda da figura nomeia $J_0$ e $J_1$, enquanto o texto e a tabela usam $J_1$ e $J_2$.",
                 sp.Tuple(sp.besselj(0, sp.sqrt(x)), sp.besselj(1, sp.sqrt(x))),
                 sp.Tuple(sp.besselj(1, sp.sqrt(x)), sp.besselj(2, sp.sqrt(x))), point={"x": 30.0},
                 data={"caption": caption, "text": text})
@@ -607,9 +605,9 @@ def _time_unit():
                 rf"$\Delta t = {_tex(1 / rate)}\,\Delta(z^2)$: $v_0/(4g)$ is (m/s)/(m/s$^2$) = s.")
     return Case("002", "quarter periods, the unit", r"\tfrac{v_0}{4g}\ \text{as a unit of length}",
                 r"\tfrac{v_0}{4g}\ \text{as a unit of time}", evidence,
-                "The quarter periods are measured in the time unit v0/(4g), which the text first "
+                "The quarter periods are measured in the time unit $v_0/(4g)$, which the text first "
                 "calls a unit of length.",
-                "Os quartos de período são medidos na unidade de tempo v0/(4g), que o texto chama "
+                "Os quartos de período são medidos na unidade de tempo $v_0/(4g)$, que o texto chama "
                 "primeiro de unidade de comprimento.",
                 data={"time_per_z2": 1 / rate})
 

@@ -140,17 +140,6 @@ def strip_banner(tex):
     return "\n".join(lines).strip("\n")
 
 
-#: LaTeX's special characters in running text, and what prints each as itself
-_TEXT_SPECIALS = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",
-                  "_": r"\_", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}",
-                  "^": r"\textasciicircum{}"}
-
-
-def plain(text):
-    """Plain ``text`` as LaTeX that prints it as it is (special characters escaped)."""
-    return "".join(_TEXT_SPECIALS.get(ch, ch) for ch in text)
-
-
 def labelled(tex, label):
     """A product's table float with ``\\label{label}`` after its caption (so the text can
     refer to it)."""
@@ -351,9 +340,8 @@ def _string(ctx, options):
 
 def _errata(ctx, options):
     from pendulab.products.errata import entries
-    shown = [dict(e, where=plain(e["where"]), text={k: plain(v) for k, v in e["text"].items()})
-             for e in entries()]
-    return {"tex": render("errata", options["language"], entries=shown), "files": {}}
+    # every field is LaTeX: printed and found are math, the others running text
+    return {"tex": render("errata", options["language"], entries=entries()), "files": {}}
 
 
 def _references(ctx, options):
