@@ -63,6 +63,7 @@ __all__ = [
     "MathieuSeries", "CharacteristicSeries", "mathieu_series", "characteristic_series",
     "theta0_of_nu", "theta_c", "theta_s", "stability_interval_series",
     "stability_interval_integer_series", "RADII", "MAX_ORDER", "INTEGER_TOLERANCE",
+    "parity_rows",
 ]
 
 #: Highest order accepted (the nu series: order 100 takes about 25 s, 150 a few minutes; docs/series.md).
@@ -283,6 +284,38 @@ def _action(letter, s):
             continue
         out[t] = out.get(t, 0) + sign
     return out
+
+
+def parity_rows(kind, size):
+    """The first ``size`` rows of the Hill matrix of a_m or b_m's parity class (DLMF 28.4).
+
+    On the basis phi_s (cos(sz) for "a", sin(sz) for "b"; s = s_0, s_0 + 2, ...
+    with s_0 = m mod 2 for a_m, 1 or 2 for b_m) the equation
+    w'' + (a - 2q cos 2z) w = 0 reads a w = (D + qV) w, D = diag(s^2), V the
+    action of 2 cos 2z (:func:`_action`).  Row i is (s_i^2, V[s_i, s_i],
+    V[s_{i-1}, s_i] V[s_i, s_{i-1}]) with 0 for the last entry of row 0: the
+    diagonal is s_i^2 + q V[s_i, s_i] and the product of the two off-diagonal
+    entries between rows i - 1 and i is q^2 times the last entry, so the
+    truncated determinant is the continuant
+    f_i = (s_i^2 + q V_ii - a) f_{i-1} - q^2 W_i f_{i-2}.
+
+    >>> parity_rows("a0", 3)          # cos 0z, cos 2z, cos 4z: 2 cos 2z * 1 = 2 cos 2z
+    [(0, 0, 0), (4, 0, 2), (16, 0, 1)]
+    >>> parity_rows("b1", 2)          # sin z: 2 cos 2z sin z = sin 3z - sin z
+    [(1, -1, 0), (9, 0, 1)]
+    """
+    letter, m = _parse_kind(kind)
+    if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+        raise InputError(f"size must be a positive integer, got {size!r}")
+    s0 = m % 2 if letter == "a" else (1 if m % 2 else 2)
+    rows, prev = [], None
+    for i in range(size):
+        s = s0 + 2 * i
+        action = _action(letter, s)
+        w = 0 if prev is None else _action(letter, prev).get(s, 0) * action.get(prev, 0)
+        rows.append((s * s, action.get(s, 0), w))
+        prev = s
+    return rows
 
 
 class _CharEngine(_Growing):
