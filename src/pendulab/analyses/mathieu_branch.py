@@ -56,6 +56,7 @@ larger than 10^-digits of it or whose two nearest eigenvalues are apart.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import NamedTuple
 
@@ -328,19 +329,37 @@ def _on_sheet(letter, m, q, a, n):
     return bool(np.min(np.abs(pair - value)) < 1e-6 * max(1.0, abs(value)) and apart < 0.1 * third)
 
 
+def _extrapolated(letter, m, digits):
+    """A start from the branch points of m - 4, m - 8, m - 12 (same letter): the radii grow
+    like m^2 and the points of one residue of m mod 4 lie on one smooth curve (docs/series.md),
+    so the quadratic extrapolation 3 q_1 - 3 q_2 + q_3 (complex) lands near the next one."""
+    if m - 12 < (0 if letter == "a" else 1):
+        return []
+    q1, q2, q3 = (complex(_branch(letter, m - k, digits).q) for k in (4, 8, 12))
+    return [3 * q1 - 3 * q2 + q3]
+
+
 def branch_point(kind, digits=15):
     """The branch point nearest to q = 0 on the sheet of a_m or b_m, to ``digits`` digits.
 
     ``kind`` is "a<m>" or "b<m>" (m <= MAX_M).  Returns a :class:`BranchPoint`;
     its ``radius`` is the radius of convergence of the series of ``kind`` in q
     (DLMF 28.6, Table 28.6.1 for m <= 19).  Raises ConvergenceError when no
-    start converges to a branch point on the sheet.
+    start converges to a branch point on the sheet.  Results are cached; for
+    m >= 12 the kinds m - 4, m - 8, m - 12 are computed too (one start comes from
+    them, :func:`_extrapolated`).
     """
     _check_digits(digits)
-    import numpy as np
     letter, m = _kind(kind)
+    return _branch(letter, m, digits)
+
+
+@functools.lru_cache(maxsize=None)
+def _branch(letter, m, digits):
+    import numpy as np
+    kind = f"{letter}{m}"
     best = None
-    for q0 in _starts(letter, m):
+    for q0 in sorted(_starts(letter, m) + _extrapolated(letter, m, digits), key=abs):
         if best is not None and abs(q0) > 1.25 * float(abs(best[1])):
             break
         rows = parity_rows(kind, _size(m, abs(q0)))
