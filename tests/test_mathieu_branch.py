@@ -57,31 +57,46 @@ def test_computed_radii_reproduce_every_digit_of_dlmf_table_28_6_1():
             assert _matches_printed(p.text, printed, truncated=(n == 8)), (kind, p.text, printed)
 
 
-def _axis_collision(kind, t_hi):
+def _axis_collision(kind, t_hi, steps=400):
     """The first t in (0, t_hi) at which a_m (the eigenvalue of the class that starts at m^2)
-    leaves the real line along q = i t: bisection on NumPy's eigenvalues of the real matrix
-    similar to D + i t V (off-diagonal products -t^2 W)."""
+    leaves the real line along q = i t: NumPy's eigenvalues of the real matrix similar to
+    D + i t V (off-diagonal entries -t sqrt(W), t sqrt(W)), a_m followed by continuity on a grid of t, then
+    bisection in the step where its nearest eigenvalue stops being real."""
     m = int(kind[1:])
     rows = parity_rows(kind, m // 2 + 60)
-    idx = next(i for i, r in enumerate(rows) if r[0] == m * m)
 
-    def real_at(t):
+    def eigenvalues(t):
         n = len(rows)
         M = np.zeros((n, n))
         for i, (c, v, w) in enumerate(rows):
             assert v == 0                       # a_{2n}, b_{2n+2}: no diagonal term in q
             M[i, i] = c
             if i:
-                M[i, i - 1], M[i - 1, i] = -t * t * w, 1.0
-        vals = np.linalg.eigvals(M)
-        vals = vals[np.argsort(vals.real)]
-        return abs(vals[idx].imag) <= 1e-9 * abs(vals[idx])
+                M[i, i - 1], M[i - 1, i] = -t * math.sqrt(w), t * math.sqrt(w)
+        return np.linalg.eigvals(M)
 
-    lo, hi = 0.0, t_hi
-    assert real_at(lo + 1e-3) and not real_at(hi)
-    for _ in range(60):
+    def follow(value, t):
+        vals = eigenvalues(t)
+        near = vals[np.argmin(np.abs(vals - value))]
+        return near.real, abs(near.imag) <= 1e-9 * abs(near)
+
+    value, t0 = float(m * m), 0.0
+    for k in range(1, steps + 1):
+        t1 = t_hi * k / steps
+        new, real = follow(value, t1)
+        if not real:
+            break
+        value, t0 = new, t1
+    else:
+        raise AssertionError(f"{kind}: real up to t = {t_hi}")
+    lo, hi = t0, t1
+    for _ in range(50):
         mid = (lo + hi) / 2
-        lo, hi = (mid, hi) if real_at(mid) else (lo, mid)
+        new, real = follow(value, mid)
+        if real:
+            lo, value = mid, new
+        else:
+            hi = mid
     return (lo + hi) / 2
 
 
@@ -133,9 +148,12 @@ def test_the_pair_test_refuses_separated_eigenvalues():
     test of the certificate is then the one that refuses."""
     p = mb.branch_point("a0", digits=30)
     with mpmath.workdps(40):
-        q = p.q * (1 + mpmath.mpf(10) ** -24)
+        # q off by 5e-21 of it: the correction (5e-21) passes at 20 digits, but the two
+        # eigenvalues near a_b are c sqrt(5e-21 |q|) ~ 4e-10 apart, above 1e-10 |a_b| = 2.1e-10
+        q = p.q * (1 + 5 * mpmath.mpf(10) ** -21)
         with pytest.raises(ConvergenceError, match="apart"):
             mb.check_branch_point("a0", q, p.a, digits=20)
+        assert mb.check_branch_point("a0", p.q, p.a, digits=20) < 1e-25
 
 
 def test_a_branch_point_of_the_class_off_the_sheet_is_not_taken():
