@@ -44,17 +44,52 @@ def _matches_printed(value, printed, truncated=False):
         return abs(mpmath.mpf(value) - mpmath.mpf(printed)) <= mpmath.mpf(10) ** (-decimals) / 2
 
 
+#: the one entry whose last printed digit is not the rounding of the computed radius:
+#: rho_6^(2) (b_14), printed 95.80595 67052, computed 95.8059567052603 (0.60 units of the
+#: last place above it; the printed digits are its truncation)
+LAST_DIGIT_OFF = {(6, 2)}
+
+
 @pytest.mark.slow
 def test_computed_radii_reproduce_every_digit_of_dlmf_table_28_6_1():
     """Each entry of DLMF Table 28.6.1 from the branch point computed afresh (not the shipped
-    table): rows 0-7 rounded to the printed digits, row 8's first entry as far as printed."""
+    table): rows 0-7 rounded to the printed digits, row 8's first entry as far as printed;
+    b_14's entry (LAST_DIGIT_OFF) truncated, and the next test shows the computed one right."""
     entries = _dlmf_entries()
     assert len(entries) == 22
     for n, j, printed in entries:
         kinds = mb.kinds_of_row(n)[j - 1]
         for kind in kinds[:1] if n else kinds + ((("a2",), ("b4",), ("a3",))[j - 1]):
             p = mb.branch_point(kind)
-            assert _matches_printed(p.text, printed, truncated=(n == 8)), (kind, p.text, printed)
+            cut = n == 8 or (n, j) in LAST_DIGIT_OFF
+            assert _matches_printed(p.text, printed, truncated=cut), (kind, p.text, printed)
+            if not cut:
+                assert not p.text.startswith(printed[:-1] + str((int(printed[-1]) + 1) % 10))
+
+
+@pytest.mark.slow
+def test_b14_is_double_at_the_computed_radius_and_not_at_the_printed_one():
+    """rho_6^(2): at the branch point computed to 20 digits, mpmath.eig's eigenvalues of the
+    truncated matrix (an independent method: QR at 30 digits, no determinant, no Newton) have
+    a pair within 1e-8 of each other; at the same angle and DLMF's printed radius
+    95.8059567052 the pair is about 1e-4 apart.  (NumPy's double eig cannot tell: near a
+    double eigenvalue its own error is ~1e-4 here.)"""
+    p = mb.branch_point("b14", digits=20)
+    rows = parity_rows("b14", 30)
+
+    def pair_gap(q):
+        n = len(rows)
+        M = mpmath.zeros(n, n)
+        for i, (c, v, w) in enumerate(rows):
+            M[i, i] = c + q * v
+            if i:
+                M[i, i - 1] = M[i - 1, i] = q * mpmath.sqrt(w)
+        vals = sorted(mpmath.eig(M, left=False, right=False), key=lambda e: abs(e - p.a))
+        return abs(vals[0] - vals[1])
+
+    with mpmath.workdps(30):
+        assert pair_gap(p.q) < 1e-8
+        assert pair_gap(p.q * mpmath.mpf("95.8059567052") / abs(p.q)) > 5e-5
 
 
 def _axis_collision(kind, t_hi, steps=400):
