@@ -75,7 +75,7 @@ def test_b14_is_double_at_the_computed_radius_and_not_at_the_printed_one():
     95.8059567052 the pair is about 1e-4 apart.  (NumPy's double eig cannot tell: near a
     double eigenvalue its own error is ~1e-4 here.)"""
     p = mb.branch_point("b14", digits=20)
-    rows = parity_rows("b14", 30)
+    rows = parity_rows("b14", 22)          # frequencies 2 .. 44: s^2 >> |q| = 96 at the end
 
     def pair_gap(q):
         n = len(rows)

@@ -37,8 +37,8 @@ the next one.  The radius is the smallest |q_b| among the branch points that
 pass.  Where they lie (the representative with Re q >= 0, Im q > 0; the class
 is symmetric under q -> conj q, and a_{2n}, b_{2n+2} under q -> -q, while
 b_{2n+1}(q) = a_{2n+1}(-q)): a_0 and a_2 meet at q = +-1.46876861378514 i,
-b_2 and b_4 at +-6.92895475876018 i, a_1 and a_3 at +-1.93139250888 +-
-3.23763841126 i; for larger m the nearest point leaves the imaginary axis
+b_2 and b_4 at +-6.92895475876018 i, a_1 and a_3 at 1.93139250938531 +-
+3.23763841114711 i (b_1 and b_3 at its mirror image); for larger m the nearest point leaves the imaginary axis
 (a_4 and a_2 at 5.1742 + 5.1042 i) or stays on it (a_6: 16.4712 i), the
 table in docs/series.md lists each.
 
@@ -51,7 +51,7 @@ larger than 10^-digits of it or whose two nearest eigenvalues are apart.
 
 >>> p = branch_point("a0", digits=12)
 >>> p.text, mpmath.nstr(p.q, 12), mpmath.nstr(p.a.real, 12)     # DLMF Table 28.6.1: 1.46876 86138
-('1.46876861379', '(0.0 + 1.46876861379j)', '2.08869890274')
+('1.46876861379', '(0.0 + 1.46876861379j)', '2.08869890275')
 """
 
 from __future__ import annotations
