@@ -246,3 +246,13 @@ def test_the_series_refuses_beyond_the_computed_radius():
     with pytest.raises(Exception, match="beyond the radius of convergence 197.93787955"):
         s.evaluate(198.0)
     assert math.isfinite(s.evaluate(150.0)[0])
+
+
+@pytest.mark.slow
+def test_b32_recomputed_is_the_nearer_point_on_the_axis():
+    """Row 15's b_32 afresh: the series' starts alone give a farther point (91.71 + 505.20 i,
+    |q| = 513.459); the start extrapolated from b_20, b_24, b_28 finds the nearer one on the
+    axis, which is the shipped radius."""
+    p = mb.branch_point("b32")
+    assert p.text == mathieu_radii.BRANCH_POINTS["b32"][0] == "512.128473373035"
+    assert p.q.real == 0 and p.radius < 513
