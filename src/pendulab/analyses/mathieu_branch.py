@@ -34,9 +34,10 @@ itself is one of the two eigenvalues that meet there: :func:`branch_point`
 follows a_m along the ray to (1 - 1e-4) q_b and requires it to be one of the
 two eigenvalues nearest to a_b, which are much closer to each other than to
 the next one.  The radius is the smallest |q_b| among the branch points that
-pass.  Where they lie (the representative with Re q >= 0, Im q > 0; the class
-is symmetric under q -> conj q, and a_{2n}, b_{2n+2} under q -> -q, while
-b_{2n+1}(q) = a_{2n+1}(-q)): a_0 and a_2 meet at q = +-1.46876861378514 i,
+pass, and the one returned passes :func:`check_branch_point` too.  Where they
+lie (the representative with Im q > 0, and Re q >= 0 for the even functions;
+the class is symmetric under q -> conj q, and a_{2n}, b_{2n+2} under q -> -q,
+while b_{2n+1}(q) = a_{2n+1}(-q)): a_0 and a_2 meet at q = +-1.46876861378514 i,
 b_2 and b_4 at +-6.92895475876018 i, a_1 and a_3 at 1.93139250938531 +-
 3.23763841114711 i (b_1 and b_3 at its mirror image); for larger m the nearest point leaves the imaginary axis
 (a_4 and a_2 at 5.1742 + 5.1042 i) or stays on it (a_6: 16.4712 i), the
@@ -79,8 +80,8 @@ _EPS_SHEET = 1e-4      # a_m is followed to (1 - _EPS_SHEET) q_b
 
 
 class BranchPoint(NamedTuple):
-    """The nearest branch point of a_m or b_m: ``q`` (mpc, Re q >= 0 or the mirror for
-    b_{2n+1}, Im q > 0), ``a`` the double eigenvalue there, ``radius`` = |q| (mpf),
+    """The nearest branch point of a_m or b_m: ``q`` (mpc; the representative with
+    Im q > 0, and Re q >= 0 for a_{2n}, b_{2n+2}), ``a`` the double eigenvalue there, ``radius`` = |q| (mpf),
     ``text`` the radius to ``digits`` significant digits, ``size`` the rows of the
     truncated matrix that gave it (2 ``size`` confirmed it)."""
     kind: str
@@ -388,6 +389,7 @@ def _branch(letter, m, digits):
     a, q, n = best
     with mpmath.workdps(digits + 22):
         q, a = _representative(letter, m, q, a)
+        check_branch_point(kind, q, a, digits)
         radius = abs(q)
         text = mpmath.nstr(radius, digits, strip_zeros=False)
     return BranchPoint(kind, q, a, radius, text, digits, n)
