@@ -118,7 +118,7 @@ def document(table, inertia_ratio_expr, scene_name):
                       "a_over_l": "a/l"},
         "note": "inverted position stable for lower < a/l < upper; upper null: the method "
                 "gives no upper limit (000 eqs. 12, 19, 28); integer-series null: the limit lies "
-                "beyond the radius of convergence (DLMF Table 28.6.1)",
+                "beyond the radius of convergence (computed branch point, DLMF Table 28.6.1)",
     }
 
 
