@@ -84,7 +84,8 @@ LIMITS = {
     "quarter_periods.dps": (int, 1, 1000, 30, "significant digits of the zeros and durations"),
     # product "notes" (the lecture notes)
     "notes.series_order": (int, 1, 30, 8, "order of the series section (000 eqs. 20-24)"),
-    "notes.grid": (int, 2, 100, 10, "points per axis of the simulated stability maps"),
+    "notes.grid": (int, 2, 12, 10, "points per axis of the simulated stability maps (the RK4 "
+                                   "work of the three maps is bounded as in the experiments product)"),
     "notes.dps": (int, 15, 100, 30, "significant digits of the Bessel zeros and identities"),
     # product "series" (and ``pendulab series --order``)
     "series.order": (int, 1, 60, 8,
