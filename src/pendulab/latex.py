@@ -104,3 +104,99 @@ def sum_rows(lhs, expr, rhs="", width=LINE_WIDTH):
         prefix = head if k == 0 else "&\\quad "
         rows.append(prefix + text + (tail if k == len(lines) - 1 else ""))
     return rows
+
+
+# -- tables that fit a page -------------------------------------------------------------------
+
+#: Most rows of data one table float holds (a bare 10pt article's page holds about 43
+#: lines; two stacked tabulars of this many rows, their headings and a caption fit,
+#: tests/test_latex.py compiles them).
+FLOAT_ROWS = 15
+
+#: Most data columns beside the first one in one tabular (a column of 4-decimal numbers
+#: is about 45pt wide with its separation; a bare article's text is 345pt wide).
+FLOAT_COLUMNS = 6
+
+#: Floats in a row after which a long fragment starts a new page (``\clearpage``): LaTeX
+#: holds at most 18 unplaced floats, and a fragment of floats only gives it no text to
+#: place them beside.
+FLOATS_PER_PAGE_RUN = 8
+
+
+def chunks(count, most):
+    """``count`` items cut into the fewest runs of at most ``most``, as even as can be:
+    a list of ``range`` objects.
+
+    >>> [list(r) for r in chunks(5, 2)]
+    [[0, 1], [2, 3], [4]]
+    >>> [len(r) for r in chunks(21, 15)]
+    [11, 10]
+    """
+    if count <= 0:
+        return []
+    parts = -(-count // most)
+    size, extra = divmod(count, parts)
+    out, start = [], 0
+    for k in range(parts):
+        stop = start + size + (1 if k < extra else 0)
+        out.append(range(start, stop))
+        start = stop
+    return out
+
+
+def tabular(spec, header, rows, title=None):
+    """A booktabs ``tabular``: an optional title row spanning all columns, the header, the rows."""
+    lines = [f"\\begin{{tabular}}{{{spec}}}", "\\toprule"]
+    if title is not None:
+        lines += [f"\\multicolumn{{{len(header)}}}{{c}}{{{title}}} \\\\", "\\midrule"]
+    lines += [" & ".join(header) + " \\\\", "\\midrule"]
+    lines += [" & ".join(row) + " \\\\" for row in rows]
+    lines += ["\\bottomrule", "\\end{tabular}"]
+    return "\n".join(lines) + "\n"
+
+
+def table_float(caption, body, placement="htbp", size=None):
+    """A ``table`` float: centred, an optional size command (``\\small``), the caption, ``body``."""
+    head = [f"\\begin{{table}}[{placement}]", "\\centering"]
+    if size:
+        head.append(size)
+    head.append(f"\\caption{{{caption}}}")
+    return "\n".join(head) + "\n" + body + "\\end{table}\n"
+
+
+def float_run(floats):
+    """The floats one after another, with ``\\clearpage`` after every
+    :data:`FLOATS_PER_PAGE_RUN` of them when there are more (see there)."""
+    out = []
+    for k, text in enumerate(floats, start=1):
+        out.append(text)
+        if k % FLOATS_PER_PAGE_RUN == 0 and k < len(floats):
+            out.append("\\clearpage\n")
+    return "".join(out)
+
+
+def part_note(index, parts):
+    """" (part 2 of 3)" when a table is cut into ``parts`` floats, else ""."""
+    return "" if parts == 1 else f" (part {index + 1} of {parts})"
+
+
+# -- what a fragment needs ----------------------------------------------------------------------
+
+#: package -> commands or environments of it that a fragment may use
+_PACKAGE_MARKS = {
+    "amsmath": ("\\begin{align", "\\intertext", "\\text{", "\\allowdisplaybreaks",
+                "\\begin{gather", "\\begin{multline", "\\dfrac", "\\tfrac", "\\operatorname"),
+    "booktabs": ("\\toprule", "\\midrule", "\\bottomrule", "\\cmidrule"),
+    "graphicx": ("\\includegraphics",),
+}
+
+
+def packages_needed(tex):
+    """The packages of :data:`_PACKAGE_MARKS` whose commands ``tex`` uses, in a fixed order.
+
+    >>> packages_needed("\\\\begin{align*} x &= 1 \\\\end{align*}")
+    ['amsmath']
+    >>> packages_needed("\\\\toprule x \\\\\\\\ \\\\bottomrule")
+    ['booktabs']
+    """
+    return [name for name, marks in _PACKAGE_MARKS.items() if any(m in tex for m in marks)]
