@@ -133,7 +133,7 @@ def _int_tokens(value, first):
     """Tokens of a signed integer; long integers are split into digit groups."""
     sign = "-" if value < 0 else ("+" if not first else "")
     digits = str(abs(value))
-    piece = LINE_WIDTH - 8
+    piece = LINE_WIDTH - 12  # digits of one row: with the widest name and \quad, within the text
     chunks = [digits[i:i + piece] for i in range(0, len(digits), piece)]
     out = []
     for i, ch in enumerate(chunks):
@@ -202,7 +202,9 @@ def _latex_ratfun(name, raw):
         return [rf"{name} &= {short}"]
     rows = [rf"{name} &= \frac{{N}}{{D}}, \quad \text{{with}}"]
     for label, toks in (("N", num_tokens), ("D", den_tokens)):
-        for i, line in enumerate(_lines(toks, LINE_WIDTH - 6)):
+        # a factor (nu - k)^e prints wider than its characters (the spaces around the sign,
+        # the thin space between factors): the denominator gets a narrower line
+        for i, line in enumerate(_lines(toks, LINE_WIDTH - (6 if label == "N" else 14))):
             lhs = f"{label} &= " if i == 0 else r"&\quad "
             joiner = " " if label == "N" else r" \, "
             rows.append(lhs + joiner.join(line))
