@@ -202,9 +202,7 @@ def _latex_ratfun(name, raw):
         return [rf"{name} &= {short}"]
     rows = [rf"{name} &= \frac{{N}}{{D}}, \quad \text{{with}}"]
     for label, toks in (("N", num_tokens), ("D", den_tokens)):
-        # a factor (nu - k)^e prints wider than its characters (the spaces around the sign,
-        # the thin space between factors): the denominator gets a narrower line
-        for i, line in enumerate(_lines(toks, LINE_WIDTH - (6 if label == "N" else 14))):
+        for i, line in enumerate(_lines(toks, LINE_WIDTH - 6)):
             lhs = f"{label} &= " if i == 0 else r"&\quad "
             joiner = " " if label == "N" else r" \, "
             rows.append(lhs + joiner.join(line))
