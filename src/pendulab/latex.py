@@ -23,6 +23,10 @@ LINE_WIDTH = 64
 _GREEK = r"\\(alpha|beta|gamma|delta|epsilon|theta|vartheta|lambda|mu|nu|xi|pi|rho|sigma|tau|phi|psi|omega|Omega|Theta|Delta|Lambda|Psi|Phi|mathcal\{L\}|cdot|partial|infty)"
 
 
+#: operator names that print as their letters (\\sin is three characters wide)
+_OPERATOR = r"\\(sin|cos|tan|cot|sec|csc|sinh|cosh|tanh|exp|log|ln)(?![a-zA-Z])"
+
+
 def brace_group(tex, start):
     """(content, index after) of the brace group opening at ``tex[start]``."""
     depth = 0
@@ -45,6 +49,7 @@ def visible_width(tex):
         return visible_width(tex[:i]) + max(visible_width(numer), visible_width(denom)) + 1 \
             + visible_width(tex[k:])
     t = re.sub(_GREEK, "x", tex)
+    t = re.sub(_OPERATOR, r"\1", t)  # \sin prints its three letters
     t = re.sub(r"\\(quad)", "xx", t)
     t = re.sub(r"\\\\", "", t)
     t = re.sub(r"\\[a-zA-Z]+|\\[,;!]|&", "", t)
@@ -67,20 +72,45 @@ def fill(tokens, width=LINE_WIDTH):
     return lines
 
 
-def _term_tokens(expr):
-    """Signed LaTeX tokens of the terms of ``expr`` in SymPy's print order."""
+def _signed(tex, first):
+    """``tex`` as the token of a term: "- x" or "+ x" (nothing before the first, unless "-")."""
+    if tex.startswith("-"):
+        return "- " + tex[1:].lstrip()
+    return tex if first else "+ " + tex
+
+
+def _term_tokens(expr, width=None):
+    """Signed LaTeX tokens of the terms of ``expr`` in SymPy's print order.
+
+    A term wider than ``width`` that is a product with one sum among its factors,
+    ``c (x + y + ...) f``, is written ``c \\biggl( x + y + ... \\biggr) f`` with the
+    sum's terms as tokens of their own, so that the rows may break inside it
+    (``\\left( ... \\right)`` cannot span rows).
+    """
     import sympy as sp  # here, not at the top: the series command prints without SymPy
 
     terms = expr.as_ordered_terms() if isinstance(expr, sp.Add) else [expr]
     tokens = []
     for k, term in enumerate(terms):
         tex = sp.latex(term)
-        if k == 0:
-            tokens.append(tex)
-        elif tex.startswith("-"):
-            tokens.append("- " + tex[1:].lstrip())
-        else:
-            tokens.append("+ " + tex)
+        sums = [f for f in term.args if isinstance(f, sp.Add)] if isinstance(term, sp.Mul) else []
+        if width is None or visible_width(tex) <= width or len(sums) != 1:
+            tokens.append(_signed(tex, k == 0))
+            continue
+        inner = sums[0]
+        rest = sp.Mul(*[f for f in term.args if f is not inner])
+        sign = ""
+        if rest.could_extract_minus_sign():
+            sign, rest = "-", -rest
+        coefficient, factors = rest.as_coeff_Mul()
+        head = "" if coefficient == 1 else sp.latex(coefficient) + " "
+        tail = "" if factors == 1 else " " + sp.latex(factors)
+        parts = _term_tokens(inner, width)
+        parts[0] = head + r"\biggl(" + parts[0]
+        parts[-1] = parts[-1] + r" \biggr)" + tail
+        lead = (sign + " " if sign else ("" if k == 0 else "+ "))
+        parts[0] = lead + parts[0]
+        tokens.extend(parts)
     return tokens
 
 
@@ -92,11 +122,11 @@ def sum_rows(lhs, expr, rhs="", width=LINE_WIDTH):
     """
     import sympy as sp
 
-    tokens = _term_tokens(sp.sympify(expr))
     if lhs:
         head, tail = f"{lhs} &= ", ""
     else:
         head, tail = "& ", f" = {rhs}" if rhs != "" else ""
+    tokens = _term_tokens(sp.sympify(expr), width - visible_width(head) - 2)
     lines = fill(tokens, width - visible_width(head) - 2)
     rows = []
     for k, line in enumerate(lines):
