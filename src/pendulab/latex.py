@@ -222,11 +222,13 @@ _PACKAGE_MARKS = {
 
 
 def packages_needed(tex):
-    """The packages of :data:`_PACKAGE_MARKS` whose commands ``tex`` uses, in a fixed order.
+    """The packages of :data:`_PACKAGE_MARKS` whose commands ``tex`` uses outside its comment
+    lines, in a fixed order.
 
     >>> packages_needed("\\\\begin{align*} x &= 1 \\\\end{align*}")
     ['amsmath']
     >>> packages_needed("\\\\toprule x \\\\\\\\ \\\\bottomrule")
     ['booktabs']
     """
-    return [name for name, marks in _PACKAGE_MARKS.items() if any(m in tex for m in marks)]
+    code = "\n".join(line for line in tex.splitlines() if not line.lstrip().startswith("%"))
+    return [name for name, marks in _PACKAGE_MARKS.items() if any(m in code for m in marks)]
