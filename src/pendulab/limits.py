@@ -93,6 +93,9 @@ LIMITS = {
     "series.kinds": (list, 1, 12, ["nu", "a0", "b1"],
                      "'nu' for 000 eqs. 20-22, and integer kinds 'a0', 'a1', 'b1', 'b2', ... "
                      "(DLMF 28.6)"),
+    # ``pendulab latex series``: the nu series of 000 eqs. 20-22 grows fast in print (order 30:
+    # 1.1 MB of LaTeX, about 560 pages of a bare article, 20 s of pdflatex); a_m, b_m take series.order
+    "latex.nu_order": (int, 1, 30, None, "highest order of the nu series in a LaTeX fragment"),
     # product "stability"
     "stability.points": (int, 2, 401, 21,
                          "number of omega0/omega values, evenly spaced in [0, max_ratio]"),

@@ -134,7 +134,7 @@ def _int_tokens(value, first):
     """Tokens of a signed integer; long integers are split into digit groups."""
     sign = "-" if value < 0 else ("+" if not first else "")
     digits = str(abs(value))
-    piece = LINE_WIDTH - 8
+    piece = LINE_WIDTH - 12  # digits of one row: with the widest name and \quad, within the text
     chunks = [digits[i:i + piece] for i in range(0, len(digits), piece)]
     out = []
     for i, ch in enumerate(chunks):

@@ -135,32 +135,39 @@ def _cell(value):
 
 
 def latex_table(doc):
-    """A booktabs table: lower limits, then upper limits; one row per omega0/omega.
+    """Booktabs tables of the limits: for each run of rows of omega0/omega, a float with the
+    lower limits above the upper ones.
 
-    Columns are lettered (a), (b), ... with the methods named in the caption, so
-    that the table stays within the text width whatever the methods' names.
+    Columns are lettered (a), (b), ... with the methods named in the caption, so that the
+    table stays within the text width whatever the methods' names; more than
+    :data:`pendulab.latex.FLOAT_COLUMNS` methods go into several floats, and so do more
+    than :data:`pendulab.latex.FLOAT_ROWS` rows, so that every float fits a page of a bare
+    article (tests/test_latex.py compiles the fragments there).
     """
+    from pendulab.latex import (FLOAT_COLUMNS, FLOAT_ROWS, chunks, float_run, part_note,
+                                table_float, tabular)
     methods = doc["methods"]
     letters = [f"({chr(ord('a') + k)})" for k in range(len(methods))]
-    legend = "; ".join(f"{letter} {_label(m)}" for letter, m in zip(letters, methods))
-    head = " & ".join([r"$\omega_0/\omega$"] + letters)
-    spec = "r" + "c" * len(methods)
-    blocks = []
-    for side in ("lower", "upper"):
-        rows = []
-        for i, rho in enumerate(doc["w0_over_w"]):
-            cells = [f"{rho:.3f}"] + [_cell(doc["limits"][m][i][side]) for m in methods]
-            rows.append(" & ".join(cells) + r" \\")
-        blocks.append(f"\\begin{{tabular}}{{{spec}}}\n\\toprule\n"
-                      f"\\multicolumn{{{len(methods) + 1}}}{{c}}{{{side} limit of $a/l$}} \\\\\n"
-                      f"\\midrule\n{head} \\\\\n\\midrule\n"
-                      + "\n".join(rows) + "\n\\bottomrule\n\\end{tabular}\n")
-    return (_BANNER.format(name=doc["scene"])
-            + "\\begin{table}\n\\centering\n"
-            + f"\\caption{{Limits of $a/l$ for the inverted pendulum, "
-              f"$I/(m l^2) = {doc['inertia_ratio']}$: {legend}.}}\n"
-            + "\n\\medskip\n".join(blocks)
-            + "\\end{table}\n")
+    ratios = doc["w0_over_w"]
+    groups = chunks(len(methods), FLOAT_COLUMNS)
+    runs = chunks(len(ratios), FLOAT_ROWS)
+    floats = []
+    for columns in groups:
+        legend = "; ".join(f"{letters[k]} {_label(methods[k])}" for k in columns)
+        head = [r"$\omega_0/\omega$"] + [letters[k] for k in columns]
+        spec = "r" + "c" * len(columns)
+        for rows in runs:
+            blocks = []
+            for side in ("lower", "upper"):
+                cells = [[f"{ratios[i]:.3f}"] + [_cell(doc["limits"][methods[k]][i][side])
+                                                  for k in columns] for i in rows]
+                blocks.append(tabular(spec, head, cells, title=f"{side} limit of $a/l$"))
+            index = len(floats)
+            note = part_note(index, len(groups) * len(runs))
+            caption = (f"Limits of $a/l$ for the inverted pendulum, "
+                       f"$I/(m l^2) = {doc['inertia_ratio']}${note}: {legend}.")
+            floats.append(table_float(caption, "\n\\medskip\n".join(blocks)))
+    return _BANNER.format(name=doc["scene"]) + float_run(floats)
 
 
 def figure_svg(doc):
