@@ -178,7 +178,7 @@ def test_the_pivot_section_puts_the_scenes_values_into_the_derived_parameters():
     # give theta0 = -4 omega0^2/omega^2 (inverted), theta1 = 2 a l m / I
     theta0, theta1 = -4 * (3 * g / (4 * l)) / omega ** 2, 3 * a / (2 * l)
     tex = (BUILT / "notes.tex").read_text()
-    section = tex[tex.index(r"\paragraph{The source's pendulum in numbers.}"):]
+    section = tex[tex.index(r"\paragraph{The pendulum in numbers.}"):]
     assert _number_after(section, r"\\theta_0") == pytest.approx(theta0, rel=1e-3)
     assert _number_after(section, r"\\theta_1") == pytest.approx(theta1, rel=1e-3)
 

@@ -83,7 +83,8 @@ LIMITS = {
                               "how many quarter periods (growing: of each kind; shortening: in all)"),
     "quarter_periods.dps": (int, 1, 1000, 30, "significant digits of the zeros and durations"),
     # product "notes" (the lecture notes)
-    "notes.series_order": (int, 1, 30, 8, "order of the series section (000 eqs. 20-24)"),
+    "notes.series_order": (int, 1, 20, 8, "order of the series section (000 eqs. 20-24; beyond 20 "
+                                          "the coefficients' integers are wider than a line)"),
     "notes.grid": (int, 2, 12, 10, "points per axis of the simulated stability maps (the RK4 "
                                    "work of the three maps is bounded as in the experiments product)"),
     "notes.dps": (int, 15, 100, 30, "significant digits of the Bessel zeros and identities"),
