@@ -333,7 +333,11 @@ def string_scene(ctx, options):
     data = {"name": f"{ctx.scene.name}-string", "system": "variable-length",
             "parameters": {"length": options["length"]},
             "products": {"equations": {}, "bessel": bessel}}
-    return parse_scene(data, ctx.scene.path)
+    from pendulab.errors import SceneError
+    try:
+        return parse_scene(data, ctx.scene.path)
+    except SceneError as exc:  # its key is the sub-scene's: name the notes' option instead
+        raise InputError(f"length {options['length']!r}: {exc.problem}") from None
 
 
 def _string(ctx, options):
@@ -344,9 +348,14 @@ def _string(ctx, options):
     from pendulab.pipeline import Context
     from pendulab.products import bessel
     from pendulab.products.equations import latex_steps
+    from pendulab.errors import SceneError
     sub = Context(string_scene(ctx, options))
     steps = {step: align(rows) for step, rows in latex_steps(sub)}
-    made = bessel.produce(sub, sub.scene.products["bessel"])
+    try:
+        made = bessel.produce(sub, sub.scene.products["bessel"])
+    except InputError as exc:  # the sub-scene's product: name the notes' option
+        problem = exc.problem if isinstance(exc, SceneError) else str(exc)
+        raise InputError(f"length {options['length']!r}: {problem}") from None
     doc = json.loads(made["bessel.json"])
     q = doc["quarter_periods"]
     # time order: the first inward swing, then the outward one after it, ...
