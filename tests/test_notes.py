@@ -336,3 +336,57 @@ def test_without_tex_a_pdf_of_other_inputs_is_not_kept(tmp_path, monkeypatch):
     build(path, out, log=lines.append, jobs=1)
     assert not (out / "n" / "notes.pdf").exists()
     assert any("not written" in line for line in lines)
+
+
+# -- scenes the prose would be false for -------------------------------------------------------
+
+@pytest.mark.parametrize("parameters, sections, fragment", [
+    ('angle = "down"', '["pivot"]', 'angle must be "up"'),
+    ('drive = "a*cos(omega*t) + b*cos(2*omega*t)"', '["stability"]', "leave stability and simulations out"),
+    ('drive = "a*cos(omega*t) + b*cos(2*omega*t)"', '["simulations"]', "leave stability and simulations out"),
+])
+def test_scenes_the_notes_would_misdescribe_are_refused(tmp_path, capsys, parameters, sections, fragment):
+    path = tmp_path / "n.toml"
+    path.write_text(f'name = "n"\nsystem = "kapitza"\n[parameters]\n{parameters}\n'
+                    f"[products.notes]\nsections = {sections}\npdf = false\n")
+    assert main(["build", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and fragment in err[0], err
+    assert not (tmp_path / "out" / "n").exists()
+
+
+def test_a_hill_drive_still_gets_its_pivot_section(tmp_path):
+    path = tmp_path / "n.toml"
+    path.write_text('name = "n"\nsystem = "kapitza"\n[parameters]\n'
+                    'drive = "a*cos(omega*t) + b*cos(2*omega*t)"\n'
+                    '[products.notes]\nsections = ["pivot"]\npdf = false\n')
+    build(path, tmp_path / "out", log=lambda m: None, jobs=1)
+    tex = (tmp_path / "out" / "n" / "notes.tex").read_text()
+    assert r"\paragraph{Hill's form.}" in tex and "Mathieu's form." not in tex
+
+
+def test_the_scenes_name_and_description_are_printed_as_written(tmp_path):
+    path = tmp_path / "n.toml"
+    path.write_text('name = "aula_3"\nsystem = "kapitza"\ndescription = "A & B: 100% RK4, C# ~5"\n'
+                    '[products.notes]\nsections = ["pivot"]\npdf = false\n')
+    build(path, tmp_path / "out", log=lambda m: None, jobs=1)
+    tex = (tmp_path / "out" / "aula_3" / "notes.tex").read_text()
+    assert r"\texttt{aula\_3}" in tex and r"A \& B: 100\% RK4, C\# \textasciitilde{}5" in tex
+
+
+def test_the_pdf_left_out_without_tex_is_made_once_tex_is_there(tmp_path, monkeypatch):
+    from pendulab.products import notes
+    path = _scene(tmp_path, {"sections": '["pivot"]'})
+    out = tmp_path / "out"
+    monkeypatch.setattr(notes, "tex_engine", lambda: None)
+    build(path, out, log=lambda m: None, jobs=1)
+    assert not (out / "n" / "notes.pdf").exists()
+    lines = []
+    build(path, out, log=lines.append, jobs=1)  # still no TeX: nothing to do
+    assert any("up to date" in line for line in lines)
+    monkeypatch.setattr(notes, "tex_engine", lambda: "pdflatex")  # TeX installed since
+    monkeypatch.setattr(notes, "compile_pdf", lambda files, engine: b"%PDF-1.5 made")
+    lines = []
+    build(path, out, log=lines.append, jobs=1)
+    assert (out / "n" / "notes.pdf").read_bytes() == b"%PDF-1.5 made"
+    assert not any("up to date" in line for line in lines)
