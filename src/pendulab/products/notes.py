@@ -491,14 +491,19 @@ def compile_pdf(files, engine="pdflatex"):
             return f.read()
 
 
-def _unresolved(directory):
-    """"undefined references" or "undefined citations" where the log of notes.tex says so, else ""."""
+def _log(directory):
+    """The text of notes.log in ``directory`` (None where pdfTeX wrote none)."""
     import os
     try:
         with open(os.path.join(directory, "notes.log"), encoding="utf-8", errors="replace") as f:
-            log = f.read()
+            return f.read()
     except OSError:
-        return ""
+        return None
+
+
+def _unresolved(directory):
+    """"undefined references" or "undefined citations" where the log of notes.tex says so, else ""."""
+    log = _log(directory) or ""
     found = [kind for kind, mark in (("undefined references", "LaTeX Warning: Reference"),
                                      ("undefined citations", "LaTeX Warning: Citation"))
              if mark in log]
@@ -506,13 +511,11 @@ def _unresolved(directory):
 
 
 def _first_error(directory):
-    import os
-    try:
-        with open(os.path.join(directory, "notes.log"), encoding="utf-8", errors="replace") as f:
-            log = f.read()
-    except OSError:
-        return "no log written"
+    """The first error line of notes.log in ``directory``."""
     import re
+    log = _log(directory)
+    if log is None:
+        return "no log written"
     for line in log.splitlines():
         if line.startswith("!") or re.match(r"\S*\.tex:\d+: ", line):
             return line.strip()[:200]
