@@ -31,6 +31,13 @@ NOT_NUMERIC = {
     ("sweep", "--drive"): "an expression",
     ("sweep", "--criterion"): "a criterion name",
     ("sweep", "--dask"): "a scheduler address",
+    ("latex series", "--kind"): "a kind name (nu, a0, b1, ...)",
+    ("latex eom", "--inertia"): "an expression",
+    ("latex eom", "--drive"): "an expression",
+    ("latex eom", "--length"): "an expression",
+    ("latex eom", "--mass"): "an expression",
+    ("latex stability", "--methods"): "method names; N of series:N has its own entries",
+    ("latex quarter-periods", "--length"): "an expression",
 }
 
 
@@ -110,6 +117,10 @@ BASE = {
               "--processes", "1", "--quiet"],
     "simulate": ["simulate", "--a-over-l", "0", "--w0-over-w", "0", "--periods", "1",
                  "--steps-per-period", "1", "--every", "1"],
+    "latex series": ["latex", "series", "--order", "1", "--kind", "a0"],
+    "latex stability": ["latex", "stability", "--points", "2", "--methods", "eq12"],
+    "latex zeros": ["latex", "zeros", "--nu", "1", "--count", "1", "--dps", "5"],
+    "latex quarter-periods": ["latex", "quarter-periods", "--count", "1", "--dps", "5"],
 }
 
 
@@ -118,7 +129,8 @@ def _argv(command, option, value):
     if option in base:
         i = base.index(option)
         base[i:i + 2] = []
-    return base + [f"{option}={value}", "--json"]
+    # the latex fragments have no other format than LaTeX
+    return base + [f"{option}={value}"] + ([] if command.startswith("latex ") else ["--json"])
 
 
 def _beyond(name):
@@ -167,6 +179,9 @@ AT_MAX = {
     ("simulate", "--steps-per-period"): [],
     ("simulate", "--periods"): ["--every", "1000"],
     ("simulate", "--inertia-ratio"): [],
+    ("latex series", "--order"): [],          # kind a0: the integer series to q^60 in a second
+    ("latex zeros", "--nu"): [],
+    ("latex stability", "--max-ratio"): [],
 }
 
 

@@ -164,7 +164,7 @@ def test_figure_functions_run_with_the_collector_paused():
         inside(fail=True)
     assert gc.isenabled()
     for f in (experiments.figure_map, experiments.figure_fig5, experiments.figure_fig2,
-              motion.figure_theta, motion.figure_envelope, stability.figure_svg):
+              motion.figure_theta, motion.figure_envelope, stability.figure):
         assert f.__wrapped__.__name__ == f.__name__  # each product figure is wrapped
 
 

@@ -100,8 +100,11 @@ def test_text_output_says_what_is_certified(capsys):
     code, out, _ = run(capsys, "floquet", "--theta0", "-0.002", "--theta1", "0.2", "--dps", "25",
                        "--method", "hill")
     assert code == 0 and "certified   = no" in out
+    # double precision: arb by default (docs/tradeoffs.md: the cheapest route there), rounded
     code, out, _ = run(capsys, "floquet", "--theta0", "-0.002", "--theta1", "0.2")
-    assert code == 0 and "(hill, double precision" in out and "certified   = no" in out
+    assert code == 0 and "(arb, double precision" in out and "rounded to a double" in out
+    code, out, _ = run(capsys, "floquet", "--theta0", "-0.002", "--theta1", "0.2", "--method", "hill")
+    assert code == 0 and "(hill, double precision" in out and "not a ball-arithmetic" in out
 
 
 def test_product_bad_point_writes_nothing(tmp_path, capsys):

@@ -271,22 +271,24 @@ def test_nu_series_at_nu_0_is_the_a0_series():
 
 
 def test_radii_from_dlmf_table_28_6_1():
+    """The refusals' radii are the computed branch points (pendulab.analyses.mathieu_radii);
+    they round to the digits of DLMF Table 28.6.1 (tests/test_mathieu_branch.py computes them
+    afresh and compares every entry)."""
     # DLMF Table 28.6.1: rho_0^(1) = 1.4687686138 (a_0, a_2), rho_0^(3) = 3.7699574940 (a_1, b_1),
-    # rho_0^(2) = 6.9289547588 (b_2, b_4), rho_2^(1) = 7.2681468935 (a_4)
-    assert se.characteristic_series("a0", 4).radius == 1.4687686138
-    assert se.characteristic_series("a2", 4).radius == 1.4687686138
-    assert se.characteristic_series("b1", 4).radius == 3.769957494
-    assert se.characteristic_series("a3", 4).radius == 3.769957494
-    assert se.characteristic_series("b2", 4).radius == 6.9289547588
-    assert se.characteristic_series("a4", 4).radius == 7.2681468935
-    # last row of the table, n = 7: rho_7^(1) (a_14), rho_7^(2) (b_16), rho_7^(3) (a_15, b_15)
-    assert se.characteristic_series("a14", 2).radius == 95.4752727072
-    assert se.characteristic_series("b16", 2).radius == 125.435411314
-    assert se.characteristic_series("b15", 2).radius == 110.02736921
-    assert se.RADII["b16"] == 125.435411314 and len(se.RADII) == 32   # a0..a15, b1..b16
-    for kind in ("a16", "b17", "a40"):
+    # rho_0^(2) = 6.9289547588 (b_2, b_4), rho_2^(1) = 7.2681468935 (a_4); last full row, n = 7:
+    # rho_7^(1) = 95.4752727072 (a_14), rho_7^(2) = 125.435411314 (b_16), rho_7^(3) = 110.027369210
+    for kind, printed in (("a0", "1.4687686138"), ("a2", "1.4687686138"), ("b1", "3.7699574940"),
+                          ("a3", "3.7699574940"), ("b2", "6.9289547588"), ("a4", "7.2681468935"),
+                          ("a14", "95.4752727072"), ("b16", "125.435411314"),
+                          ("b15", "110.027369210")):
+        r = se.characteristic_series(kind, 2).radius
+        half_unit = 0.5 * 10.0 ** -len(printed.split(".")[1])
+        assert abs(r - float(printed)) <= half_unit * (1 + 1e-6), (kind, r)
+        assert se.RADII[kind] == r
+    assert len(se.RADII) == 64            # rows 0-15: a_0 .. a_31, b_1 .. b_32
+    for kind in ("a32", "b33", "a40"):
         s = se.characteristic_series(kind, 2)
-        assert s.radius is None and "not tabulated" in s.radius_source and kind not in se.RADII
+        assert s.radius is None and "not computed" in s.radius_source and kind not in se.RADII
 
 
 def test_integer_series_extend_instead_of_recomputing():
@@ -378,15 +380,15 @@ def test_integer_estimate_covers_the_error_inside_the_radius(kind, order):
 
 
 def test_untabulated_kinds_are_checked_by_the_growth_of_their_terms():
-    """a_16 and b_19 are not in DLMF Table 28.6.1; values are checked against Hill's method."""
+    """a_32 and b_33 are beyond the computed table of radii; values are checked against Hill's method."""
     from pendulab.analyses import floquet
-    for kind, q in (("a16", 12.0), ("b19", -30.0)):
+    for kind, q in (("a32", 12.0), ("b33", -30.0)):
         s = se.characteristic_series(kind, 16)
         value, est = s.evaluate(q)
         ref = float((floquet.mathieu_a if kind[0] == "a" else floquet.mathieu_b)(int(kind[1:]), q))
         assert abs(value - ref) <= 2 * est + 1e-12 * abs(ref)
-    s = se.characteristic_series("a16", 10)
-    with pytest.raises(SeriesDomainError, match="not in DLMF Table 28.6.1"):
+    s = se.characteristic_series("a32", 10)
+    with pytest.raises(SeriesDomainError, match="not in the computed table of radii"):
         s.evaluate(1e4)
     with pytest.raises(SeriesDomainError, match=r"element 1"):
         s.evaluate(np.array([12.0, 1e4]))
@@ -394,7 +396,7 @@ def test_untabulated_kinds_are_checked_by_the_growth_of_their_terms():
         s.evaluate("1e4", dps=20)
     with pytest.warns(AccuracyWarning):
         value, est = s.evaluate(1e4, on_domain="warn")
-    ref = float(floquet.mathieu_a(16, 1e4))
+    ref = float(floquet.mathieu_a(32, 1e4))
     assert abs(value - ref) > 1e6 and est > 1e6      # the refused sum is far off, and says so
 
 

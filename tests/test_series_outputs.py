@@ -76,7 +76,8 @@ def test_integer_kind_json():
     # DLMF 28.6.1: a_0(q) = -q^2/2 + 7q^4/128 - 29q^6/2304 + 68687q^8/18874368
     assert rec["coefficients"] == {"0": "0", "1": "0", "2": "-1/2", "3": "0", "4": "7/128", "5": "0",
                                    "6": "-29/2304", "7": "0", "8": "68687/18874368"}
-    assert rec["radius"] == 1.4687686138      # DLMF Table 28.6.1, rho_0^(1)
+    assert abs(rec["radius"] - 1.4687686138) <= 5e-11     # DLMF Table 28.6.1, rho_0^(1)
+    assert rec["radius_source"] == "computed branch point, DLMF Table 28.6.1"
 
 
 def test_json_is_byte_identical_across_processes():
@@ -150,7 +151,9 @@ def test_generated_module_holds_the_exact_coefficients(tmp_path):
     t1 = Fraction(1, 5)
     assert mod.theta0(x, t1) == x * x + sum(a.evaluate(x) * t1**n for n, a in s.alpha_raw.items())
     assert mod.CHARACTERISTIC["b1"] == se.characteristic_series("b1", 10).coefficients
-    assert mod.RADIUS == {"a0": 1.4687686138, "b1": 3.769957494}
+    assert mod.RADIUS == {"a0": se.RADII["a0"], "b1": se.RADII["b1"]}
+    # DLMF Table 28.6.1: rho_0^(1) = 1.4687686138, rho_0^(3) = 3.7699574940 (to half a unit)
+    assert abs(mod.RADIUS["a0"] - 1.4687686138) <= 5e-11 and abs(mod.RADIUS["b1"] - 3.769957494) <= 5e-11
 
 
 # -- command line ---------------------------------------------------------------------------------------
@@ -161,7 +164,7 @@ def test_cli_text_and_formats(capsys):
     assert "alpha_2 = " in out and "C[1][1] = " in out
     assert main(["series", "--order", "4", "--kind", "b1", "--json"]) == 0
     rec = json.loads(capsys.readouterr().out)
-    assert rec["coefficients"]["1"] == "-1" and rec["radius"] == 3.769957494
+    assert rec["coefficients"]["1"] == "-1" and abs(rec["radius"] - 3.769957494) <= 5e-11   # DLMF Table 28.6.1
     assert main(["series", "--order", "3", "--latex"]) == 0
     assert "\\begin{align*}" in capsys.readouterr().out
 

@@ -11,7 +11,8 @@ value is sum_i num[i] nu^i / (den * prod (nu + j)^e for (j, e) in exps).
 
 Integer-order characteristic values (DLMF 28.6, w'' + (a - 2q cos 2z) w = 0,
 q = -theta1): CHARACTERISTIC[kind][p] is the exact coefficient of q^p;
-RADIUS[kind] the radius of convergence from DLMF Table 28.6.1 (None: not tabulated).
+RADIUS[kind] the radius of convergence, the computed nearest branch point
+(DLMF Table 28.6.1 for rows n <= 9; None: beyond the computed table).
 """
 
 from fractions import Fraction
@@ -56,10 +57,10 @@ CHARACTERISTIC = {
     'b1': {0: Fraction('1'), 1: Fraction('-1'), 2: Fraction('-1/8'), 3: Fraction('1/64'), 4: Fraction('-1/1536'), 5: Fraction('-11/36864'), 6: Fraction('49/589824'), 7: Fraction('-55/9437184'), 8: Fraction('-83/35389440'), 9: Fraction('12121/15099494400'), 10: Fraction('-114299/1630745395200'), 11: Fraction('-192151/7827577896960'), 12: Fraction('83513957/8766887244595200')},
 }
 
-#: kind -> radius of convergence (DLMF Table 28.6.1)
+#: kind -> radius of convergence (computed branch point)
 RADIUS = {
-    'a0': 1.4687686138,
-    'b1': 3.769957494,
+    'a0': 1.46876861378514,
+    'b1': 3.76995749401036,
 }
 
 

@@ -16,7 +16,7 @@ import sys
 
 from pendulab import __version__
 
-COMMANDS = ("derive", "build", "series", "floquet", "stability", "bessel", "sweep", "simulate")
+COMMANDS = ("derive", "build", "series", "floquet", "stability", "bessel", "sweep", "simulate", "latex")
 
 
 def available_commands():

@@ -95,13 +95,28 @@ def save(fig, dpi=150):
             axis._autolabelpos = False
         buf = io.BytesIO()
         import matplotlib
-        with _shared_font_subsets(), _DrawnTwice(fig, dpi) as both, \
+        with _shared_font_subsets(), _DrawnTwice(fig, dpi) as both, _fonttools_quiet(), \
                 matplotlib.rc_context({"pdf.compression": PDF_COMPRESS_LEVEL, **SAVEFIG_RC}):
             fig.savefig(buf, format="pdf", metadata=PDF_METADATA)
         return {".png": both.png() if both.complete else png(fig, dpi), ".pdf": buf.getvalue()}
     finally:
         for axis in unlabelled:
             axis._autolabelpos = True
+
+
+class _fonttools_quiet:
+    """fontTools' warnings silenced while a PDF embeds font subsets: the Computer Modern fonts
+    that matplotlib ships carry creation dates before 1970, which fontTools reports on every
+    subset ("timestamp seems very low") and then reads correctly."""
+
+    def __enter__(self):
+        import logging
+        self.logger = logging.getLogger("fontTools")
+        self.level = self.logger.level
+        self.logger.setLevel(logging.ERROR)
+
+    def __exit__(self, *exc):
+        self.logger.setLevel(self.level)
 
 
 #: zlib level of the PNG files: 3 writes them in about two thirds of the time of Pillow's

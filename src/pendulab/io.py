@@ -56,10 +56,11 @@ class Kept:
     without TeX): the build keeps the copy it published before, if that copy was made
     from the same ``inputs`` (the other files of the product, compared by the hashes
     in manifest.json), and leaves the file out otherwise; it says which in one line
-    that ends with ``reason``."""
+    that ends with ``reason``.  ``product`` names the product, whose module's
+    ``can_make(name)`` tells a later build whether the file can be made there."""
 
-    def __init__(self, name, inputs, reason):
-        self.name, self.inputs, self.reason = name, tuple(inputs), reason
+    def __init__(self, name, inputs, reason, product=None):
+        self.name, self.inputs, self.reason, self.product = name, tuple(inputs), reason, product
 
     def __repr__(self):
         return f"Kept({self.name!r}, inputs={list(self.inputs)!r})"

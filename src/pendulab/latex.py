@@ -23,6 +23,10 @@ LINE_WIDTH = 64
 _GREEK = r"\\(alpha|beta|gamma|delta|epsilon|theta|vartheta|lambda|mu|nu|xi|pi|rho|sigma|tau|phi|psi|omega|Omega|Theta|Delta|Lambda|Psi|Phi|mathcal\{L\}|cdot|partial|infty)"
 
 
+#: operator names that print as their letters (\\sin is three characters wide)
+_OPERATOR = r"\\(sin|cos|tan|cot|sec|csc|sinh|cosh|tanh|exp|log|ln)(?![a-zA-Z])"
+
+
 def brace_group(tex, start):
     """(content, index after) of the brace group opening at ``tex[start]``."""
     depth = 0
@@ -45,6 +49,7 @@ def visible_width(tex):
         return visible_width(tex[:i]) + max(visible_width(numer), visible_width(denom)) + 1 \
             + visible_width(tex[k:])
     t = re.sub(_GREEK, "x", tex)
+    t = re.sub(_OPERATOR, r"\1", t)  # \sin prints its three letters
     t = re.sub(r"\\(quad)", "xx", t)
     t = re.sub(r"\\\\", "", t)
     t = re.sub(r"\\[a-zA-Z]+|\\[,;!]|&", "", t)
@@ -67,20 +72,45 @@ def fill(tokens, width=LINE_WIDTH):
     return lines
 
 
-def _term_tokens(expr):
-    """Signed LaTeX tokens of the terms of ``expr`` in SymPy's print order."""
+def _signed(tex, first):
+    """``tex`` as the token of a term: "- x" or "+ x" (nothing before the first, unless "-")."""
+    if tex.startswith("-"):
+        return "- " + tex[1:].lstrip()
+    return tex if first else "+ " + tex
+
+
+def _term_tokens(expr, width=None):
+    """Signed LaTeX tokens of the terms of ``expr`` in SymPy's print order.
+
+    A term wider than ``width`` that is a product with one sum among its factors,
+    ``c (x + y + ...) f``, is written ``c \\biggl( x + y + ... \\biggr) f`` with the
+    sum's terms as tokens of their own, so that the rows may break inside it
+    (``\\left( ... \\right)`` cannot span rows).
+    """
     import sympy as sp  # here, not at the top: the series command prints without SymPy
 
     terms = expr.as_ordered_terms() if isinstance(expr, sp.Add) else [expr]
     tokens = []
     for k, term in enumerate(terms):
         tex = sp.latex(term)
-        if k == 0:
-            tokens.append(tex)
-        elif tex.startswith("-"):
-            tokens.append("- " + tex[1:].lstrip())
-        else:
-            tokens.append("+ " + tex)
+        sums = [f for f in term.args if isinstance(f, sp.Add)] if isinstance(term, sp.Mul) else []
+        if width is None or visible_width(tex) <= width or len(sums) != 1:
+            tokens.append(_signed(tex, k == 0))
+            continue
+        inner = sums[0]
+        rest = sp.Mul(*[f for f in term.args if f is not inner])
+        sign = ""
+        if rest.could_extract_minus_sign():
+            sign, rest = "-", -rest
+        coefficient, factors = rest.as_coeff_Mul()
+        head = "" if coefficient == 1 else sp.latex(coefficient) + " "
+        tail = "" if factors == 1 else " " + sp.latex(factors)
+        parts = _term_tokens(inner, width)
+        parts[0] = head + r"\biggl(" + parts[0]
+        parts[-1] = parts[-1] + r" \biggr)" + tail
+        lead = (sign + " " if sign else ("" if k == 0 else "+ "))
+        parts[0] = lead + parts[0]
+        tokens.extend(parts)
     return tokens
 
 
@@ -92,11 +122,11 @@ def sum_rows(lhs, expr, rhs="", width=LINE_WIDTH):
     """
     import sympy as sp
 
-    tokens = _term_tokens(sp.sympify(expr))
     if lhs:
         head, tail = f"{lhs} &= ", ""
     else:
         head, tail = "& ", f" = {rhs}" if rhs != "" else ""
+    tokens = _term_tokens(sp.sympify(expr), width - visible_width(head) - 2)
     lines = fill(tokens, width - visible_width(head) - 2)
     rows = []
     for k, line in enumerate(lines):
@@ -104,3 +134,101 @@ def sum_rows(lhs, expr, rhs="", width=LINE_WIDTH):
         prefix = head if k == 0 else "&\\quad "
         rows.append(prefix + text + (tail if k == len(lines) - 1 else ""))
     return rows
+
+
+# -- tables that fit a page -------------------------------------------------------------------
+
+#: Most rows of data one table float holds (a bare 10pt article's page holds about 43
+#: lines; two stacked tabulars of this many rows, their headings and a caption fit,
+#: tests/test_latex.py compiles them).
+FLOAT_ROWS = 15
+
+#: Most data columns beside the first one in one tabular (a column of 4-decimal numbers
+#: is about 45pt wide with its separation; a bare article's text is 345pt wide).
+FLOAT_COLUMNS = 6
+
+#: Floats in a row after which a long fragment starts a new page (``\clearpage``): LaTeX
+#: holds at most 18 unplaced floats, and a fragment of floats only gives it no text to
+#: place them beside.
+FLOATS_PER_PAGE_RUN = 8
+
+
+def chunks(count, most):
+    """``count`` items cut into the fewest runs of at most ``most``, as even as can be:
+    a list of ``range`` objects.
+
+    >>> [list(r) for r in chunks(5, 2)]
+    [[0, 1], [2, 3], [4]]
+    >>> [len(r) for r in chunks(21, 15)]
+    [11, 10]
+    """
+    if count <= 0:
+        return []
+    parts = -(-count // most)
+    size, extra = divmod(count, parts)
+    out, start = [], 0
+    for k in range(parts):
+        stop = start + size + (1 if k < extra else 0)
+        out.append(range(start, stop))
+        start = stop
+    return out
+
+
+def tabular(spec, header, rows, title=None):
+    """A booktabs ``tabular``: an optional title row spanning all columns, the header, the rows."""
+    lines = [f"\\begin{{tabular}}{{{spec}}}", "\\toprule"]
+    if title is not None:
+        lines += [f"\\multicolumn{{{len(header)}}}{{c}}{{{title}}} \\\\", "\\midrule"]
+    lines += [" & ".join(header) + " \\\\", "\\midrule"]
+    lines += [" & ".join(row) + " \\\\" for row in rows]
+    lines += ["\\bottomrule", "\\end{tabular}"]
+    return "\n".join(lines) + "\n"
+
+
+def table_float(caption, body, placement="htbp", size=None):
+    """A ``table`` float: centred, an optional size command (``\\small``), the caption, ``body``."""
+    head = [f"\\begin{{table}}[{placement}]", "\\centering"]
+    if size:
+        head.append(size)
+    head.append(f"\\caption{{{caption}}}")
+    return "\n".join(head) + "\n" + body + "\\end{table}\n"
+
+
+def float_run(floats):
+    """The floats one after another, with ``\\clearpage`` after every
+    :data:`FLOATS_PER_PAGE_RUN` of them when there are more (see there)."""
+    out = []
+    for k, text in enumerate(floats, start=1):
+        out.append(text)
+        if k % FLOATS_PER_PAGE_RUN == 0 and k < len(floats):
+            out.append("\\clearpage\n")
+    return "".join(out)
+
+
+def part_note(index, parts):
+    """" (part 2 of 3)" when a table is cut into ``parts`` floats, else ""."""
+    return "" if parts == 1 else f" (part {index + 1} of {parts})"
+
+
+# -- what a fragment needs ----------------------------------------------------------------------
+
+#: package -> commands or environments of it that a fragment may use
+_PACKAGE_MARKS = {
+    "amsmath": ("\\begin{align", "\\intertext", "\\text{", "\\allowdisplaybreaks",
+                "\\begin{gather", "\\begin{multline", "\\dfrac", "\\tfrac", "\\operatorname"),
+    "booktabs": ("\\toprule", "\\midrule", "\\bottomrule", "\\cmidrule"),
+    "graphicx": ("\\includegraphics",),
+}
+
+
+def packages_needed(tex):
+    """The packages of :data:`_PACKAGE_MARKS` whose commands ``tex`` uses outside its comment
+    lines, in a fixed order.
+
+    >>> packages_needed("\\\\begin{align*} x &= 1 \\\\end{align*}")
+    ['amsmath']
+    >>> packages_needed("\\\\toprule x \\\\\\\\ \\\\bottomrule")
+    ['booktabs']
+    """
+    code = "\n".join(line for line in tex.splitlines() if not line.lstrip().startswith("%"))
+    return [name for name, marks in _PACKAGE_MARKS.items() if any(m in code for m in marks)]

@@ -83,8 +83,10 @@ LIMITS = {
                               "how many quarter periods (growing: of each kind; shortening: in all)"),
     "quarter_periods.dps": (int, 1, 1000, 30, "significant digits of the zeros and durations"),
     # product "notes" (the lecture notes)
-    "notes.series_order": (int, 1, 30, 8, "order of the series section (000 eqs. 20-24)"),
-    "notes.grid": (int, 2, 100, 10, "points per axis of the simulated stability maps"),
+    "notes.series_order": (int, 1, 20, 8, "order of the series section (000 eqs. 20-24; beyond 20 "
+                                          "the coefficients' integers are wider than a line)"),
+    "notes.grid": (int, 2, 12, 10, "points per axis of the simulated stability maps (the RK4 "
+                                   "work of the three maps is bounded as in the experiments product)"),
     "notes.dps": (int, 15, 100, 30, "significant digits of the Bessel zeros and identities"),
     # product "series" (and ``pendulab series --order``)
     "series.order": (int, 1, 60, 8,
@@ -92,6 +94,9 @@ LIMITS = {
     "series.kinds": (list, 1, 12, ["nu", "a0", "b1"],
                      "'nu' for 000 eqs. 20-22, and integer kinds 'a0', 'a1', 'b1', 'b2', ... "
                      "(DLMF 28.6)"),
+    # ``pendulab latex series``: the nu series of 000 eqs. 20-22 grows fast in print (order 30:
+    # 1.1 MB of LaTeX, about 560 pages of a bare article, 20 s of pdflatex); a_m, b_m take series.order
+    "latex.nu_order": (int, 1, 30, None, "highest order of the nu series in a LaTeX fragment"),
     # product "stability"
     "stability.points": (int, 2, 401, 21,
                          "number of omega0/omega values, evenly spaced in [0, max_ratio]"),

@@ -2,7 +2,8 @@
 methods stay right.
 
 References: the radii of DLMF Table 28.6.1 (Meixner et al.; a_0: 1.4687686138,
-b_1: 3.7699574940, b_2: 6.9289547588); SciPy 1.17.1's mathieu_a / mathieu_b
+b_1: 3.7699574940, b_2: 6.9289547588), which the computed radii pendulab uses
+(pendulab.analyses.mathieu_radii, 15 digits) must round to; SciPy 1.17.1's mathieu_a / mathieu_b
 (Zhang & Jin's Fortran, an implementation independent of pendulab's; right to
 ~1e-14 for a_0, b_1 up to q = 1e4, benchmarks/scipy_mathieu_accuracy.py) and the
 project's two independent routes for a_m (ball arithmetic "arb"; continued
@@ -17,10 +18,17 @@ import pytest
 import scipy.special as sc
 
 from pendulab.analyses import series as se
+from pendulab.analyses.mathieu_radii import BRANCH_POINTS
 from pendulab.analyses.floquet import characteristic_exponent, mathieu_a, mathieu_b, theta0_of_exponent
 from pendulab.errors import AccuracyWarning, SeriesDomainError
 
-RADII = {"a0": "1.4687686138", "b1": "3.7699574940", "b2": "6.9289547588"}
+DLMF = {"a0": "1.4687686138", "b1": "3.7699574940", "b2": "6.9289547588"}
+RADII = {kind: BRANCH_POINTS[kind][0] for kind in DLMF}      # the decimals pendulab uses
+
+
+def test_the_computed_radii_round_to_dlmf_table_28_6_1():
+    for kind, text in DLMF.items():
+        assert float(RADII[kind]) == pytest.approx(float(text), abs=5.1e-11)
 
 
 @pytest.mark.parametrize("kind", sorted(RADII))
@@ -31,7 +39,8 @@ def test_integer_series_refuse_at_and_beyond_the_table_radius(kind, how):
     q, dps = {"double": (float(r), None), "text": (r, 30), "double-dps": (float(r), 30),
               "beyond": (2 * float(r), None), "negative": ("-" + r, 30)}[how]
     with pytest.raises(SeriesDomainError, match=rf"^{kind}: \|q\| = .* is beyond the radius of "
-                                                rf"convergence {float(r)!r} \(DLMF Table 28.6.1\)$"):
+                                                rf"convergence {float(r)!r} \(computed branch "
+                                                r"point, DLMF Table 28.6.1\)$"):
         s.evaluate(q, dps=dps)
 
 

@@ -56,6 +56,7 @@ import threading
 import warnings
 from fractions import Fraction
 
+from pendulab.analyses.mathieu_radii import BRANCH_POINTS as _BRANCH_POINTS
 from pendulab.analyses.series_ratfun import ONE, ZERO, linear_sum, reduce, reflect
 from pendulab.errors import AccuracyWarning, InputError, SeriesDomainError
 
@@ -63,6 +64,7 @@ __all__ = [
     "MathieuSeries", "CharacteristicSeries", "mathieu_series", "characteristic_series",
     "theta0_of_nu", "theta_c", "theta_s", "stability_interval_series",
     "stability_interval_integer_series", "RADII", "MAX_ORDER", "INTEGER_TOLERANCE",
+    "parity_rows",
 ]
 
 #: Highest order accepted (the nu series: order 100 takes about 25 s, 150 a few minutes; docs/series.md).
@@ -70,42 +72,43 @@ MAX_ORDER = 400
 #: nu closer than this to a nonzero integer is refused (the series has poles there).
 INTEGER_TOLERANCE = 1e-6
 
-# DLMF Table 28.6.1 (from Meixner et al. 1980, sec. 2.4): radii of convergence
-# rho_n^(j); j = 1 for a_{2n}, j = 2 for b_{2n+2}, j = 3 for a_{2n+1} and b_{2n+1};
-# the first row is n = 0 or 1 (a_0 and a_2 share it, and so on).
-_TABLE_28_6_1 = (
-    ("1.4687686138", "6.9289547588", "3.7699574940"),    # n = 0 or 1
-    ("7.2681468935", "16.8030898254", "11.2709852655"),  # n = 2
-    ("16.4711658923", "30.0967728376", "22.8552471216"),  # n = 3
-    ("30.4273820960", "48.1363818593", "38.5229250099"),  # n = 4
-    ("47.8059657026", "69.5987932769", "58.2741384472"),  # n = 5
-    ("69.9293051764", "95.8059567052", "82.1089436067"),  # n = 6
-    ("95.4752727072", "125.435411314", "110.027369210"),  # n = 7
-)
+# Radii of convergence of the series of a_m(q), b_m(q): the distance to the nearest
+# branch point on each one's sheet, computed by pendulab.analyses.mathieu_branch and
+# shipped (generated, checked by tests/test_mathieu_branch.py) as
+# pendulab.analyses.mathieu_radii, rows n = 0 .. 15 of DLMF Table 28.6.1's layout:
+# rho_n^(1) for a_{2n}, rho_n^(2) for b_{2n+2}, rho_n^(3) for a_{2n+1} and b_{2n+1}.
+# DLMF Table 28.6.1 (from Meixner et al. 1980, sec. 2.4) tabulates rows 0 .. 9.
+_DLMF_TABLE_ROWS = 10
 
 
-def _radius_row(n):
-    return _TABLE_28_6_1[max(n - 1, 0)] if n <= 7 else None
+def _radius_row(letter, m):
+    """The row n of DLMF Table 28.6.1's layout that holds the radius of a_m or b_m."""
+    if letter == "a" and m % 2 == 0:
+        return m // 2
+    if letter == "b" and m % 2 == 0:
+        return m // 2 - 1
+    return (m - 1) // 2
 
 
 def _table_radius(letter, m, text=False):
-    """Radius of convergence of the series of a_m or b_m from DLMF Table 28.6.1 (None if
-    untabulated): a float, or with ``text`` the table's decimal string."""
-    if letter == "a" and m % 2 == 0:
-        row, col = _radius_row(m // 2), 0
-    elif letter == "b" and m % 2 == 0:
-        row, col = _radius_row(m // 2 - 1), 1
-    else:
-        row, col = _radius_row((m - 1) // 2), 2
-    if row is None:
+    """Radius of convergence of the series of a_m or b_m, computed (None beyond the table):
+    a float, or with ``text`` the table's decimal string."""
+    entry = _BRANCH_POINTS.get(f"{letter}{m}")
+    if entry is None:
         return None
-    return row[col] if text else float(row[col])
+    return entry[0] if text else float(entry[0])
 
 
-#: kind -> radius (DLMF Table 28.6.1) for every tabulated kind
-RADII = {f"{letter}{m}": _table_radius(letter, m)
-         for letter in "ab" for m in range(0 if letter == "a" else 1, 17)
-         if _table_radius(letter, m) is not None}
+def _radius_source(letter, m):
+    if _table_radius(letter, m) is None:
+        return "not computed (beyond the computed table of radii)"
+    if _radius_row(letter, m) < _DLMF_TABLE_ROWS:
+        return "computed branch point, DLMF Table 28.6.1"
+    return "computed branch point, beyond DLMF Table 28.6.1"
+
+
+#: kind -> radius of convergence (computed branch point) for every kind of the table
+RADII = {kind: float(entry[0]) for kind, entry in _BRANCH_POINTS.items()}
 
 
 def _check_order(order, minimum=1):
@@ -288,6 +291,38 @@ def _action(letter, s):
     return out
 
 
+def parity_rows(kind, size):
+    """The first ``size`` rows of the Hill matrix of a_m or b_m's parity class (DLMF 28.4).
+
+    On the basis phi_s (cos(sz) for "a", sin(sz) for "b"; s = s_0, s_0 + 2, ...
+    with s_0 = m mod 2 for a_m, 1 or 2 for b_m) the equation
+    w'' + (a - 2q cos 2z) w = 0 reads a w = (D + qV) w, D = diag(s^2), V the
+    action of 2 cos 2z (:func:`_action`).  Row i is (s_i^2, V[s_i, s_i],
+    V[s_{i-1}, s_i] V[s_i, s_{i-1}]) with 0 for the last entry of row 0: the
+    diagonal is s_i^2 + q V[s_i, s_i] and the product of the two off-diagonal
+    entries between rows i - 1 and i is q^2 times the last entry, so the
+    truncated determinant is the continuant
+    f_i = (s_i^2 + q V_ii - a) f_{i-1} - q^2 W_i f_{i-2}.
+
+    >>> parity_rows("a0", 3)          # cos 0z, cos 2z, cos 4z: 2 cos 2z * 1 = 2 cos 2z
+    [(0, 0, 0), (4, 0, 2), (16, 0, 1)]
+    >>> parity_rows("b1", 2)          # sin z: 2 cos 2z sin z = sin 3z - sin z
+    [(1, -1, 0), (9, 0, 1)]
+    """
+    letter, m = _parse_kind(kind)
+    if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+        raise InputError(f"size must be a positive integer, got {size!r}")
+    s0 = m % 2 if letter == "a" else (1 if m % 2 else 2)
+    rows, prev = [], None
+    for i in range(size):
+        s = s0 + 2 * i
+        action = _action(letter, s)
+        w = 0 if prev is None else _action(letter, prev).get(s, 0) * action.get(prev, 0)
+        rows.append((s * s, action.get(s, 0), w))
+        prev = s
+    return rows
+
+
 class _CharEngine(_Growing):
     """The exact coefficients of a_m(q) or b_m(q); grows on demand, the computed orders are final.
 
@@ -391,8 +426,9 @@ class CharacteristicSeries:
     """a_m(q) or b_m(q) to a given order in q (DLMF 28.6), exact rational coefficients.
 
     ``coefficients`` maps each power of q (0 .. order) to a Fraction;
-    ``radius`` is the radius of convergence from DLMF Table 28.6.1 (None where
-    the table stops); ``radius_source`` says so.
+    ``radius`` is the radius of convergence, the distance to the nearest branch
+    point of the kind (computed, :mod:`pendulab.analyses.mathieu_branch`; None
+    beyond the computed table); ``radius_source`` says so.
     """
 
     def __init__(self, kind, order, coefficients):
@@ -401,8 +437,7 @@ class CharacteristicSeries:
         self.coefficients = dict(coefficients)
         self.radius = _table_radius(kind[0], int(kind[1:]))
         self._radius_text = _table_radius(kind[0], int(kind[1:]), text=True)
-        self.radius_source = ("DLMF Table 28.6.1" if self.radius is not None
-                              else "not tabulated in DLMF Table 28.6.1")
+        self.radius_source = _radius_source(kind[0], int(kind[1:]))
 
     def as_expr(self, q=None):
         import sympy as sp
@@ -417,7 +452,7 @@ class CharacteristicSeries:
         As for :func:`theta0_of_nu`, the orders N+1 .. K (K = :func:`_lookahead` (N))
         are evaluated too (from the cached exact coefficients) and the estimate
         is the larger of what they add and the largest of them.  |q| at or
-        beyond the radius of DLMF Table 28.6.1 raises SeriesDomainError (or,
+        beyond the radius (computed branch point) raises SeriesDomainError (or,
         with ``on_domain="warn"``, returns the truncated sum with an
         AccuracyWarning); for kinds the table does not cover, growth of those
         further terms is taken as the sign of a q beyond the radius.
@@ -425,7 +460,8 @@ class CharacteristicSeries:
         _check_on_domain(on_domain)
         N, K = self.order, _lookahead(self.order)
         coeffs = _char_coefficients(self.kind[0], int(self.kind[1:]), K)
-        table = f"{self.kind}: |q| = {{}} is beyond the radius of convergence {self.radius} (DLMF Table 28.6.1)"
+        table = (f"{self.kind}: |q| = {{}} is beyond the radius of convergence {self.radius} "
+                 f"({self.radius_source})")
         if dps is None:
             import numpy as np
             try:
@@ -453,7 +489,8 @@ class CharacteristicSeries:
         with mpmath.workdps(dps + 10):
             qm = _mpf(q, "q")
             # the table's decimal and its double both count as the radius, so that q given
-            # as the table's text ("1.4687686138") or as that double is refused on both routes
+            # as the table's text ("1.46876861378514") or as that double is refused on both
+            # routes
             if self.radius is not None and abs(qm) >= min(mpmath.mpf(self.radius),
                                                           mpmath.mpf(self._radius_text)):
                 _domain(table.format(mpmath.nstr(abs(qm), 8)), on_domain)
@@ -475,7 +512,7 @@ class CharacteristicSeries:
         if np.any(bad):
             idx, where = _first_bad(bad)
             _domain(f"{self.kind}: q = {float(np.asarray(q)[idx]):.6g}{where} is beyond the radius of "
-                    f"convergence (not in DLMF Table 28.6.1 for this kind): the terms of the series grow "
+                    f"convergence (not in the computed table of radii): the terms of the series grow "
                     f"from orders {self.order + 1}-{self.order + 2} (size {float(np.asarray(first)[idx]):.2g}) "
                     f"to orders {K - 1}-{K} (size {float(np.asarray(last)[idx]):.2g}); lower |q|",
                     on_domain, stacklevel=4)
@@ -493,7 +530,7 @@ def characteristic_series(kind, order):
 
     >>> s = characteristic_series("b1", 3)       # DLMF 28.6.3: 1 - q - q^2/8 + q^3/64
     >>> [str(s.coefficients[p]) for p in range(4)], s.radius
-    (['1', '-1', '-1/8', '1/64'], 3.769957494)
+    (['1', '-1', '-1/8', '1/64'], 3.76995749401036)
     """
     letter, m = _parse_kind(kind)
     _check_order(order)
@@ -1142,7 +1179,7 @@ def stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="wa
     28.2.26 a_{2n+1}(-q) = b_{2n+1}(q)).  The lower limit is the smallest Q with
     a_0(Q) = theta0, the upper the smallest Q with b_1(Q) = theta0, each with
     the truncated series.  A limit beyond the series' radius of convergence
-    (DLMF Table 28.6.1) is returned with an AccuracyWarning
+    (the computed branch point, DLMF Table 28.6.1) is returned with an AccuracyWarning
     (``on_domain="warn"``), raises SeriesDomainError (``"raise"``) or is
     replaced by None (``"omit"``, used by the stability comparison table).
 
@@ -1184,7 +1221,7 @@ def interval_integer_series_theta1(order, target, on_domain="warn"):
                 root = None
             else:
                 _domain(f"{kind}: the limit Q = {root:g} lies beyond the radius of convergence "
-                        f"{s.radius} (DLMF Table 28.6.1); the truncated series is unreliable there",
+                        f"{s.radius} ({s.radius_source}); the truncated series is unreliable there",
                         on_domain)
         limits.append(root)
     return limits[0], limits[1]

@@ -18,7 +18,7 @@ lower < a/l < upper.  Methods:
 * ``"integer-series:N"`` - the series of the boundary curves a_0(q) and b_1(q)
   (DLMF 28.6) at order N,
   :func:`pendulab.analyses.series.stability_interval_integer_series`; a limit
-  beyond the series' radius of convergence (DLMF Table 28.6.1) is None.
+  beyond the series' radius of convergence (computed branch point, DLMF Table 28.6.1) is None.
 
 The symbolic formulas are turned into numbers here, never re-typed.
 

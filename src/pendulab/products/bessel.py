@@ -75,18 +75,56 @@ def quarter_record(q):
     }
 
 
-def _tex_table(caption, header, rows, spec):
-    lines = [r"\begin{table}[h]", r"\centering", r"\small", rf"\caption{{{caption}}}",
-             rf"\begin{{tabular}}{{{spec}}}", r"\toprule", " & ".join(header) + r" \\", r"\midrule"]
-    lines += [" & ".join(r) + r" \\" for r in rows]
-    lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
-    return "\n".join(lines) + "\n"
+#: Most rows of one table float of zeros or quarter periods (numbers at ``\\small``).
+TABLE_ROWS = 30
+
+
+def _tex_table(caption, header, rows, spec, most=TABLE_ROWS):
+    """Booktabs table floats of ``rows`` at ``\\small``, at most ``most`` rows each (more
+    rows go into further floats, their caption saying which part), so that each fits a page."""
+    from pendulab.latex import chunks, float_run, part_note, table_float, tabular
+    runs = chunks(len(rows), most) or [range(0)]
+    return float_run([table_float(caption + part_note(k, len(runs)),
+                                  tabular(spec, header, [rows[i] for i in run]),
+                                  placement="h", size="\\small")
+                      for k, run in enumerate(runs)])
 
 
 def _digits(ball, dps):
     from pendulab.analyses.bessel_zeros import ball_digits
     d = min(dps, TEX_DIGITS)
     return ball_digits(ball, d) or "--"
+
+
+def _order_tex(nu):
+    """The order of a zero set as LaTeX (1, 2.5, 1/3)."""
+    return str(nu)
+
+
+def zeros_table(zero_sets, dps, name):
+    """bessel_zeros.tex: ``zero_sets`` (ZeroSet of each order, same count) side by side,
+    one column per order, at most :data:`TEX_DIGITS` digits."""
+    orders = [_order_tex(z.nu) for z in zero_sets]
+    header = ["$k$"] + [f"$j_{{{o},k}}$" for o in orders]
+    count = max(len(z.balls) for z in zero_sets)
+    rows = [[str(k + 1)] + [_digits(z.balls[k], dps) if k < len(z.balls) else ""
+                            for z in zero_sets] for k in range(count)]
+    caption = "Zeros " + ", ".join(f"$j_{{{o},k}}$" for o in orders) + " (certified)"
+    return _BANNER.format(name=name) + _tex_table(caption, header, rows, "r" + "l" * len(orders))
+
+
+def quarter_periods_table(q, dps, name):
+    """bessel_quarter_periods.tex: the inward and outward quarter periods of ``q``
+    (a :class:`~pendulab.analyses.bessel_periods.QuarterPeriods`)."""
+    rows = []
+    for k in range(max(len(q.inward), len(q.outward))):
+        rows.append([str(k),
+                     _digits(q.inward_balls[k], dps) if k < len(q.inward_balls) else "",
+                     _digits(q.outward_balls[k], dps) if k < len(q.outward_balls) else ""])
+    unit = r"$|\dot L|/(4g)$"
+    return _BANNER.format(name=name) + _tex_table(
+        rf"Quarter periods ({q.direction} string, unit {unit})", ["$k$", "inward", "outward"],
+        rows, "rll")
 
 
 def produce(ctx, options):
@@ -133,17 +171,8 @@ def produce(ctx, options):
         "identities": identities,
     }
     name = ctx.scene.name
-    rows = [[str(k), _digits(a, dps), _digits(b, dps)] for k, (a, b) in enumerate(zip(z1.balls, z2.balls), 1)]
-    zeros_tex = _BANNER.format(name=name) + _tex_table(
-        r"Zeros $j_{1,k}$, $j_{2,k}$ (certified)", ["$k$", "$j_{1,k}$", "$j_{2,k}$"], rows, "rll")
-    qrows = []
-    for k in range(max(len(q.inward), len(q.outward))):
-        qrows.append([str(k),
-                      _digits(q.inward_balls[k], dps) if k < len(q.inward_balls) else "",
-                      _digits(q.outward_balls[k], dps) if k < len(q.outward_balls) else ""])
-    unit = r"$|\dot L|/(4g)$"
-    qp_tex = _BANNER.format(name=name) + _tex_table(
-        rf"Quarter periods ({direction} string, unit {unit})", ["$k$", "inward", "outward"], qrows, "rll")
+    zeros_tex = zeros_table([z1, z2], dps, name)
+    qp_tex = quarter_periods_table(q, dps, name)
     irows = [[eng, rule.replace("_", " "), e(v[0]), mpmath.nstr(v[1], 6), str(v[2])]
              for (eng, rule), v in sorted(rep.by_rule.items())]
     id_tex = _BANNER.format(name=name) + _tex_table(

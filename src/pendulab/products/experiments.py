@@ -41,6 +41,8 @@ OPTIONS = {
     "fig2": (bool, True, "Fig. 2: fast and slow motion"),
     "fig2_periods": _limited("experiments.fig2_periods"),
     "figures": (bool, True, "write the PNG and PDF figures (needs matplotlib)"),
+    "labels": (str, "text", "text (plain Unicode labels) or math (labels typeset as mathematics, "
+               "Computer Modern, as the lecture notes include them)"),
     "backend": (str, "numpy", "integrator backend: numpy (reproducible bytes), c or auto"),
     "dask": (str, "", "address of a dask.distributed scheduler for the sweeps ('' = local)"),
 }
@@ -52,6 +54,17 @@ CURVE = 41
 
 #: Panel titles of the maps, plain Unicode text (DejaVu Sans has the glyphs; no mathtext parse per figure).
 LABELS = {"mean": "|⟨θ⟩| < 0.1", "mean-abs": "⟨|θ|⟩ < 0.1", "bounded": "|θ| < π/2", "floquet": "Floquet (linear)"}
+#: The same titles typeset as mathematics (``labels = "math"``), and the other labels of the
+#: figures in both styles.
+MATH_LABELS = {"mean": r"$|\langle\theta\rangle| < 0.1$", "mean-abs": r"$\langle|\theta|\rangle < 0.1$",
+               "bounded": r"$|\theta| < \pi/2$", "floquet": "Floquet (linear)"}
+TEXT = {"a/l": "a/l", "w0/w": "ω₀/ω", "theta(tau)": "θ(τ)", "tau": "τ", "theta": "θ",
+        "error": "|series − RK4|", "pivot": "pivot y₀/a", "theta0": "θ₀", "theta1": "θ₁",
+        "theta(0)": "θ(0)", "dtheta(0)": "dθ/dτ(0)", "math": False}
+MATH = {"a/l": "$a/l$", "w0/w": r"$\omega_0/\omega$", "theta(tau)": r"$\theta(\tau)$", "tau": r"$\tau$",
+        "theta": r"$\theta$", "error": r"$|$series $-$ RK4$|$", "pivot": r"pivot $y_0/a$",
+        "theta0": r"$\theta_0$", "theta1": r"$\theta_1$", "theta(0)": r"$\theta(0)$",
+        "dtheta(0)": r"$\theta'(0)$", "math": True}
 
 
 def _round(v):
@@ -106,6 +119,8 @@ def check_options(options):
     for k in options["fig5_orders"]:
         if isinstance(k, bool) or not isinstance(k, int) or not 2 <= k <= 40:
             problems.append(f"fig5_orders: {k!r} must be a whole number in [2, 40]")
+    if options["labels"] not in ("text", "math"):
+        problems.append(f"labels must be text or math, got {options['labels']!r}")
     if options["backend"] not in ("numpy", "c", "auto"):
         problems.append(f"backend must be numpy, c or auto, got {options['backend']!r}")
     if not problems:
@@ -187,6 +202,7 @@ def _part(ctx, options, part):
     from pendulab.numerics import experiments as E
     spec, mathieu, kw = _prepared(ctx, options)
     figures = options["figures"]
+    L = MATH if options["labels"] == "math" else TEXT
     if part.startswith("map:"):
         name = part[4:]
         m = E.stability_maps(spec, options["grid"], E.INITIAL[name], options["periods"],
@@ -196,7 +212,7 @@ def _part(ctx, options, part):
         if figures:
             fine, region = _fine(ctx, spec, mathieu, m["w0_over_w"])
             files = {MAP_FILES[name] + ext: data
-                     for ext, data in figure_map(m, fine, map_title(name, m, fine), region).items()}
+                     for ext, data in figure_map(m, fine, map_title(name, m, fine, L), region, L).items()}
         return {"map": m, "files": files}
     if part == "summary":
         out = {"body": spec.body, "inertia_ratio": str(E.inertia_ratio(spec)), "limits": None}
@@ -210,10 +226,10 @@ def _part(ctx, options, part):
     if part == "fig5":
         r = E.fig5(spec, periods=options["fig5_periods"], orders=tuple(options["fig5_orders"]),
                    backend=options["backend"])
-        return {"fig5": r, "files": {"fig5" + ext: d for ext, d in figure_fig5(r).items()} if figures else {}}
+        return {"fig5": r, "files": {"fig5" + ext: d for ext, d in figure_fig5(r, L).items()} if figures else {}}
     if part == "fig2":
         r = E.fig2(spec, periods=options["fig2_periods"], backend=options["backend"])
-        return {"fig2": r, "files": {"fig2" + ext: d for ext, d in figure_fig2(r).items()} if figures else {}}
+        return {"fig2": r, "files": {"fig2" + ext: d for ext, d in figure_fig2(r, L).items()} if figures else {}}
     raise InputError(f"no part {part!r} of the experiments product")
 
 
@@ -298,6 +314,17 @@ RC = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "savefig.dpi": 
       "pdf.fonttype": 42, "ps.fonttype": 42, "path.simplify": False}
 
 
+def _rc(L):
+    """The figures' rc settings: :data:`RC`, and Computer Modern mathematics for ``labels = "math"``."""
+    return {**RC, "mathtext.fontset": "cm"} if L["math"] else RC
+
+
+def _number(x, spec, L):
+    """``format(x, spec)`` as a label part: mathematics for ``labels = "math"``, else with a
+    true minus sign (:func:`_minus`)."""
+    return f"${format(x, spec)}$" if L["math"] else _minus(x, spec)
+
+
 def save(fig):
     """{".png": bytes, ".pdf": bytes} with no dates or software versions inside."""
     from pendulab.figures import save as save_bytes
@@ -338,7 +365,7 @@ def region_paths(limits):
 
 
 @collector_paused
-def figure_map(m, limits, title, region=None):
+def figure_map(m, limits, title, region=None, L=TEXT):
     """2 x 2 panels (one per criterion): stable cells as open circles (as in the source), the
     Floquet region shaded, eq. 28 (solid) and exact (dashed) limits of a/l drawn over them.
     ``region``: :func:`region_paths` of ``limits`` (made here if not given)."""
@@ -351,8 +378,8 @@ def figure_map(m, limits, title, region=None):
     nrow = (len(crits) + ncol - 1) // ncol
     a = np.asarray(m["a_over_l"])
     w = np.asarray(m["w0_over_w"])
-    key = (nrow, ncol, len(crits))
-    with matplotlib.rc_context(RC):
+    key = (nrow, ncol, len(crits), L["math"])
+    with matplotlib.rc_context(_rc(L)):
         fig, axes = _MAP_FIGURES.pop(key, None) or _map_figure(matplotlib, nrow, ncol)
         kept = False
         try:
@@ -376,12 +403,13 @@ def figure_map(m, limits, title, region=None):
                 ax.add_line(Line2D([], [], ls="--", color="C0", lw=1.0, label="exact (Floquet)"))
                 ax.set_xlim(0, 1)
                 ax.set_ylim(0, 1)
-                ax.set_title(y=1.0, label=f"{LABELS[c]}: {m['counts'][c]} stable")
+                ax.set_title(y=1.0, label=f"{(MATH_LABELS if L['math'] else LABELS)[c]}: "
+                             f"{m['counts'][c]} stable")
                 if k + ncol >= len(crits):  # the lowest panel of its column (the last row, or above an empty cell)
-                    ax.set_xlabel("a/l")
+                    ax.set_xlabel(L["a/l"])
                     ax.xaxis.set_tick_params(labelbottom=True)
                 if k % ncol == 0:
-                    ax.set_ylabel("ω₀/ω")
+                    ax.set_ylabel(L["w0/w"])
             axes[0][0].legend(loc="upper left", frameon=False)
             for k in range(len(crits), nrow * ncol):
                 axes[k // ncol][k % ncol].set_visible(False)
@@ -426,12 +454,12 @@ def _empty_map_figure(fig):
 
 
 @collector_paused
-def figure_fig5(r):
+def figure_fig5(r, L=TEXT):
     import numpy as np
 
     from pendulab.figures import power_of_ten
     matplotlib, plt = _matplotlib()
-    with matplotlib.rc_context(RC):
+    with matplotlib.rc_context(_rc(L)):
         fig, (ax, ax2) = plt.subplots(2, 1, figsize=(6.6, 5.0), sharex=True,
                                       gridspec_kw={"height_ratios": [2, 1]})
         try:
@@ -443,15 +471,19 @@ def figure_fig5(r):
                         label=f"series (eq. 23), order {n}")
                 ax2.semilogy(tau, np.abs(th - r["theta"]) + 1e-18, styles[k % 3], color=f"C{3 + k}", lw=0.8,
                              label=f"order {n}: max {r['error'][n]:.1e}")
-            ax.set_ylabel("θ(τ)")
-            ax.set_title(y=1.0, label=f"a/l = 1/5, ω₀/ω = 1/20, θ(0) = {r['theta'][0]:g}, "
-                         f"dθ/dτ(0) = 0.01 (θ₀ = {_minus(r['theta0'], '.3g')}, θ₁ = {_minus(r['theta1'], '.3g')})")
+            ax.set_ylabel(L["theta(tau)"])
+            if L["math"]:
+                ax.set_title(y=1.0, label=rf"$a/l = 1/5$, $\omega_0/\omega = 1/20$, $\theta(0) = {r['theta'][0]:g}$, "
+                             rf"$\theta'(0) = 0.01$ ($\theta_0 = {r['theta0']:.3g}$, $\theta_1 = {r['theta1']:.3g}$)")
+            else:
+                ax.set_title(y=1.0, label=f"a/l = 1/5, ω₀/ω = 1/20, θ(0) = {r['theta'][0]:g}, "
+                             f"dθ/dτ(0) = 0.01 (θ₀ = {_minus(r['theta0'], '.3g')}, θ₁ = {_minus(r['theta1'], '.3g')})")
             ax.legend(loc="lower left", frameon=False)
             # 10⁻² as text: matplotlib's own labels are mathtext, parsed per label and dpi
             ax2.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(power_of_ten))
             ax2.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-            ax2.set_xlabel("τ")
-            ax2.set_ylabel("|series − RK4|")
+            ax2.set_xlabel(L["tau"])
+            ax2.set_ylabel(L["error"])
             ax2.legend(loc="lower right", frameon=False)
             _margins(fig, left=0.8, right=0.12, bottom=0.45, top=0.3, hspace=0.15)
             return save(fig)
@@ -460,22 +492,23 @@ def figure_fig5(r):
 
 
 @collector_paused
-def figure_fig2(r):
+def figure_fig2(r, L=TEXT):
     matplotlib, plt = _matplotlib()
-    with matplotlib.rc_context(RC):
+    with matplotlib.rc_context(_rc(L)):
         fig, ax = plt.subplots(figsize=(6.6, 3.6))
         try:
             tau = r["tau"]
-            ax.plot(tau, r["theta"], "-", color="k", lw=0.9, label="θ(τ) (RK4, eq. 7)")
+            ax.plot(tau, r["theta"], "-", color="k", lw=0.9, label=f"{L['theta(tau)']} (RK4, eq. 7)")
             ax.plot(tau, r["slow"], "--", color="C3", lw=1.2, label="slow part (mean over one drive period)")
-            ax.set_xlabel("τ")
-            ax.set_ylabel("θ")
+            ax.set_xlabel(L["tau"])
+            ax.set_ylabel(L["theta"])
             ax2 = ax.twinx()
-            ax2.plot(tau, r["pivot"], ":", color="0.3", lw=0.6, label="pivot y₀/a")
-            ax2.set_ylabel("pivot y₀/a")
+            ax2.plot(tau, r["pivot"], ":", color="0.3", lw=0.6, label=L["pivot"])
+            ax2.set_ylabel(L["pivot"])
             ax2.set_ylim(-6, 6)
-            ax.set_title(y=1.0, label=f"θ₀ = {_minus(r['theta0'], 'g')}, θ₁ = {_minus(r['theta1'], 'g')}, "
-                         f"θ(0) = {_minus(r['theta'][0], 'g')}, dθ/dτ(0) = 0")
+            ax.set_title(y=1.0, label=f"{L['theta0']} = {_number(r['theta0'], 'g', L)}, "
+                         f"{L['theta1']} = {_number(r['theta1'], 'g', L)}, "
+                         f"{L['theta(0)']} = {_number(r['theta'][0], 'g', L)}, {L['dtheta(0)']} = {_number(0, 'g', L)}")
             h1, l1 = ax.get_legend_handles_labels()
             h2, l2 = ax2.get_legend_handles_labels()
             fig.legend(h1 + h2, l1 + l2, loc="lower center", ncol=3, frameon=False)
@@ -489,12 +522,13 @@ def figure_fig2(r):
 MAP_FILES = {"text": "fig3-text", "caption": "fig3-caption", "fig4": "fig4"}
 
 
-def map_title(name, m, fine):
+def map_title(name, m, fine, L=TEXT):
     """The suptitle of map ``name``'s figure."""
     from pendulab.numerics.experiments import INITIAL
     th, om = INITIAL[name]
     # two lines: on one the suptitle is wider than the figure (clipped at both edges)
-    return (f"θ(0) = {_minus(th, 'g')}, dθ/dτ(0) = {_minus(om, 'g')}, {len(m['a_over_l'])}² pairs\n"
+    pairs = f"${len(m['a_over_l'])}^2$" if L["math"] else f"{len(m['a_over_l'])}²"
+    return (f"{L['theta(0)']} = {_number(th, 'g', L)}, {L['dtheta(0)']} = {_number(om, 'g', L)}, {pairs} pairs\n"
             + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if fine["curves"]
                else "shaded: Floquet-stable (monodromy); dashed: its edge"))
 

@@ -50,10 +50,20 @@ OPTIONS = {
     "pdf": (bool, True, "compile notes.pdf where pdflatex or latexmk is installed"),
 }
 SYSTEMS = ("kapitza",)
+#: what ``pendulab build`` prints after the scene's line: the file a reader opens
+HEADLINE = ("the notes", "notes.pdf")
 
 #: 002 (its last page): the differences of squares of zeros it lists as the first quarter
 #: periods, inward and outward in turn, in the unit v0/(4 g); the notes set them beside ours.
 SOURCE_QUARTER_PERIODS = ("22.8438", "21.6315", "32.6495", "31.5213", "42.5001", "41.3994")
+
+#: 000 sec. 2.2: the Mathieu parameters the source gives for its Fig. 2 (a rod 10 cm long,
+#: 6 mm pivot amplitude at 86 Hz), set beside the ones derived from the scene's values
+SOURCE_FIG2_VALUES = ("-2e-3", "0.2")
+SOURCE_FIG2 = {"theta0": r"-2 \times 10^{-3}", "theta1": "0.2"}
+
+#: the string's direction (pendulab.analyses.bessel_periods) in the Portuguese notes
+DIRECTION_PT = {"growing": "que cresce", "shortening": "que encurta"}
 
 #: SI unit of each physical symbol a scene's [values] may give (LaTeX, siunitx-free)
 UNITS = {"l": r"\mathrm{m}", "a": r"\mathrm{m}", "omega": r"\mathrm{s^{-1}}",
@@ -112,9 +122,22 @@ def environment():
         keep_trailing_newline=True, undefined=jinja2.StrictUndefined, autoescape=False)
 
 
-def render(name, language, **slots):
-    """The template ``notes/<language>/<name>.tex.j2`` with ``slots`` filled in."""
-    return environment().get_template(f"notes/{language}/{name}.tex.j2").render(**slots)
+def render(name, options, **slots):
+    """The template ``notes/<language>/<name>.tex.j2`` with ``slots`` filled in, and
+    ``sections`` (the sections the notes have, which a cross-reference may need)."""
+    return environment().get_template(f"notes/{options['language']}/{name}.tex.j2").render(
+        sections=options["sections"], **slots)
+
+
+#: LaTeX's special characters in running text, and what prints each as itself
+_TEXT_SPECIALS = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",
+                  "_": r"\_", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}",
+                  "^": r"\textasciicircum{}"}
+
+
+def plain(text):
+    """Plain ``text`` (a scene's name or description) as LaTeX that prints it as it is."""
+    return "".join(_TEXT_SPECIALS.get(ch, ch) for ch in text)
 
 
 def align(rows):
@@ -155,9 +178,26 @@ def produce_part(ctx, options, section):
     """{"tex": the section's LaTeX, "files": {figure file: bytes}} of one section."""
     from pendulab.errors import SceneError
     try:
+        _refuse(ctx, section)
         return _SECTION[section](ctx, options)
     except InputError as exc:
         raise SceneError(ctx.scene.path, "products.notes", f"section {section}: {exc}") from None
+
+
+#: the sections that need Mathieu's equation (theta0, theta1), not a Hill equation
+MATHIEU_SECTIONS = ("stability", "simulations")
+
+
+def _refuse(ctx, section):
+    """InputError where the notes' prose would be false for the scene: they are written for
+    the inverted pendulum (angle "up"), and two sections for Mathieu's equation."""
+    if ctx.scene.parameters.get("angle", "up") != "up":
+        raise InputError('the notes are written for the inverted pendulum: angle must be "up", '
+                         f'got {ctx.scene.parameters.get("angle")!r}')
+    if section in MATHIEU_SECTIONS and ctx.get("canonical").kind != "mathieu":
+        raise InputError(f"this drive gives a {ctx.get('canonical').kind} equation, not Mathieu's, "
+                         "which this section needs: leave " + " and ".join(MATHIEU_SECTIONS)
+                         + " out of sections")
 
 
 def _pivot(ctx, options):
@@ -171,16 +211,19 @@ def _pivot(ctx, options):
     if ctx.scene.values and form.kind == "mathieu":
         from pendulab.numerics.model import mathieu_parameters
         given = {str(k): v for k, v in ctx.scene.values.items()}
-        values = [(sp.latex(sp.Symbol(k)), sp.latex(v) if v.is_Rational else number(v),
-                   UNITS.get(k, "")) for k, v in sorted(given.items())]
+        values = [(sp.latex(sp.Symbol(k)), number(v), UNITS.get(k, ""))
+                  for k, v in sorted(given.items())]
         th0, th1 = mathieu_parameters(ctx.get("equations"), form, values=given, groups=False)
         if th0.is_number and th1.is_number:
-            groups = {"theta0": number(th0, 4), "theta1": number(th1, 4)}
-    return {"tex": render("pivot", options["language"], steps=steps, body=system.body,
+            groups = {"theta0": number(th0, 4), "theta1": number(th1, 4),
+                      # the source's values are these to one significant digit
+                      "rounded": all(float(f"{float(ours):.1g}") == float(theirs) for ours, theirs
+                                     in ((th0, SOURCE_FIG2_VALUES[0]), (th1, SOURCE_FIG2_VALUES[1])))}
+    return {"tex": render("pivot", options, steps=steps, body=system.body,
                           inertia=sp.latex(system.inertia),
                           inertia_ratio=sp.latex(sp.simplify(system.inertia_ratio)),
                           drive=sp.latex(system.drive), kind=form.kind, values=values,
-                          groups=groups, omega0=sp.latex(S.m * S.g * S.l / S.I)),
+                          groups=groups, source_fig2=SOURCE_FIG2, omega0=sp.latex(S.m * S.g * S.l / S.I)),
             "files": {}}
 
 
@@ -201,7 +244,7 @@ def _stability(ctx, options):
     files = {}
     if options["figures"]:
         files["stability.pdf"] = stability.figure(doc, "pdf")
-    return {"tex": render("stability", options["language"], table=labelled(strip_banner(made["stability.tex"]), "tab:stability"),
+    return {"tex": render("stability", options, table=labelled(strip_banner(made["stability.tex"]), "tab:stability"),
                           figure="stability.pdf" if files else None,
                           order=opts["methods"][-1].split(":")[1]),
             "files": files}
@@ -215,7 +258,7 @@ def _series(ctx, options):
         rec = integer_record(kind, order)
         radii.append({"kind": kind[0], "m": kind[1:], "radius": rec["radius"],
                       "source": rec["radius_source"]})
-    return {"tex": render("series", options["language"], order=order,
+    return {"tex": render("series", options, order=order,
                           series=strip_banner(latex_text(["nu"], order)),
                           integer=strip_banner(latex_text(["a0", "b1"], min(order, 8))),
                           integer_order=min(order, 8), radii=radii),
@@ -228,7 +271,7 @@ def experiments_options(options):
     from pendulab.products.experiments import OPTIONS as EXPERIMENTS
     opts = {key: default for key, (_kind, default, _help) in EXPERIMENTS.items()}
     opts.update({"grid": options["grid"], "prune": True, "figures": options["figures"],
-                 "backend": "numpy", "first_experiment": False})
+                 "backend": "auto", "first_experiment": False, "labels": "math"})
     return opts
 
 
@@ -241,21 +284,38 @@ def _simulations(ctx, options):
     made = experiments.produce(ctx, opts)
     doc = json.loads(made["experiments.json"])
     files = {k: v for k, v in made.items() if k.endswith(".pdf")}
+    # the Floquet verdict is never integrated: its column of zeros is left out
+    integrated = [c for c in opts["criteria"] if c != "floquet"]
     maps = []
     for name in opts["maps"]:
         m = doc["maps"][name]
         theta, omega = INITIAL[name]
         maps.append({"name": name, "theta": theta, "omega": omega,
                      "counts": [m["counts"][c] for c in opts["criteria"]],
-                     "simulated": m["simulated"],
+                     "integrated": [m["simulated"][c] for c in integrated],
                      "figure": experiments.MAP_FILES[name] + ".pdf" if files else None})
+    # which criteria give the source's count at each initial condition it names (grid 10 only)
+    source_match = []
+    if opts["grid"] == 10:
+        for name in opts["maps"]:
+            key = INITIAL[name]
+            if key in SOURCE_COUNTS:
+                counts = doc["maps"][name]["counts"]
+                source_match.append({"theta": key[0], "omega": key[1], "source": SOURCE_COUNTS[key],
+                                     "criteria": [c for c in opts["criteria"]
+                                                  if counts[c] == SOURCE_COUNTS[key]]})
     fig5 = doc.get("fig5")
-    fig5_rows = [(n, number(fig5["max_error_vs_rk4"][n], 2), number(fig5["series_estimate"][n], 2))
+    fig5_rows = [(n, number(fig5["nu"][n], 6), number(fig5["max_error_vs_rk4"][n], 2),
+                  number(fig5["max_error_vs_rk4_linear"][n], 2),
+                  number(fig5["series_estimate"][n], 2))
                  for n in sorted(fig5["max_error_vs_rk4"], key=int)] if fig5 else []
-    return {"tex": render("simulations", options["language"], maps=maps, criteria=opts["criteria"],
+    return {"tex": render("simulations", options, maps=maps, criteria=opts["criteria"],
+                          step=f"1/{opts['grid'] - 1}" if opts["grid"] > 2 else "1",
+                          integrated=integrated,
                           grid=opts["grid"], periods=opts["periods"],
                           steps=opts["steps_per_period"], source=SOURCE_COUNTS,
-                          fig5=fig5, fig5_rows=fig5_rows,
+                          fig5=fig5, fig5_rows=fig5_rows, source_match=source_match,
+                          kernel=opts["backend"],
                           fig5_file="fig5.pdf" if "fig5.pdf" in files else None,
                           fig2=doc.get("fig2"),
                           fig2_file="fig2.pdf" if "fig2.pdf" in files else None,
@@ -273,35 +333,51 @@ def string_scene(ctx, options):
     data = {"name": f"{ctx.scene.name}-string", "system": "variable-length",
             "parameters": {"length": options["length"]},
             "products": {"equations": {}, "bessel": bessel}}
-    return parse_scene(data, ctx.scene.path)
+    from pendulab.errors import SceneError
+    try:
+        return parse_scene(data, ctx.scene.path)
+    except SceneError as exc:  # its key is the sub-scene's: name the notes' option instead
+        raise InputError(f"length {options['length']!r}: {exc.problem}") from None
 
 
 def _string(ctx, options):
     import json
 
+    import sympy as sp
+
     from pendulab.pipeline import Context
     from pendulab.products import bessel
     from pendulab.products.equations import latex_steps
+    from pendulab.errors import SceneError
     sub = Context(string_scene(ctx, options))
     steps = {step: align(rows) for step, rows in latex_steps(sub)}
-    made = bessel.produce(sub, sub.scene.products["bessel"])
+    try:
+        made = bessel.produce(sub, sub.scene.products["bessel"])
+    except InputError as exc:  # the sub-scene's product: name the notes' option
+        problem = exc.problem if isinstance(exc, SceneError) else str(exc)
+        raise InputError(f"length {options['length']!r}: {problem}") from None
     doc = json.loads(made["bessel.json"])
     q = doc["quarter_periods"]
     # time order: the first inward swing, then the outward one after it, ...
     ours = [x for pair in zip(q["inward"], q["outward"]) for x in pair]
-    pairs = [(src, mine[:len(src) + 4]) for src, mine in zip(SOURCE_QUARTER_PERIODS, ours)]
+    # the source's values are those of a growing string from z0 = j_2,1
+    pairs = ([(src, mine[:len(src) + 4]) for src, mine in zip(SOURCE_QUARTER_PERIODS, ours)]
+             if q["direction"] == "growing" and q["start"] == "z0 = j_2,1" else [])
     ident = doc["identities"]
-    return {"tex": render("string", options["language"], steps=steps,
+    return {"tex": render("string", options, steps=steps,
                           zeros=labelled(strip_banner(made["bessel_zeros.tex"]), "tab:zeros"),
                           periods=labelled(strip_banner(made["bessel_quarter_periods.tex"]),
                                            "tab:quarter"),
                           identities=labelled(strip_banner(made["bessel_identities.tex"]),
                                               "tab:identities"),
                           claim_holds=q["claim_holds"], direction=q["direction"],
-                          margin_before=min(q["margin_before"], key=float)[:8],
-                          margin_after=min(q["margin_after"], key=float)[:8],
-                          shown=len(q["inward"]), source_pairs=pairs,
-                          worst=ident["worst_relative_error"], dps=ident["dps"],
+                          direction_pt=DIRECTION_PT.get(q["direction"], q["direction"]),
+                          margin_before=number(min(q["margin_before"], key=float)),
+                          margin_after=number(min(q["margin_after"], key=float)),
+                          z_low=number(ident["z_range"][0], 3), z_high=number(ident["z_range"][1], 3),
+                          shown=len(q["inward"]) + len(q["outward"]), source_pairs=pairs,
+                          length=sp.latex(sub.get("system").length),
+                          worst=number(ident["worst_relative_error"], 3), dps=ident["dps"],
                           agreements=ident["engine_agreements"], points=ident["points"],
                           nmax=ident["nmax"], contained=ident["arb_balls_contain_exact_values"]),
             "files": {}}
@@ -309,11 +385,12 @@ def _string(ctx, options):
 
 def _errata(ctx, options):
     from pendulab.products.errata import entries
-    return {"tex": render("errata", options["language"], entries=entries()), "files": {}}
+    # every field is LaTeX: printed and found are math, the others running text
+    return {"tex": render("errata", options, entries=entries()), "files": {}}
 
 
 def _references(ctx, options):
-    return {"tex": render("references", options["language"]), "files": {}}
+    return {"tex": render("references", options), "files": {}}
 
 
 _SECTION = {"pivot": _pivot, "stability": _stability, "series": _series,
@@ -328,8 +405,8 @@ _SECTION = {"pivot": _pivot, "stability": _stability, "series": _series,
 def document_text(scene, options, results):
     """notes.tex: the article of the sections' LaTeX, in the scene's order."""
     body = "\n\n".join(results[s]["tex"].rstrip("\n") for s in options["sections"])
-    return render("notes", options["language"], babel=LANGUAGES[options["language"]],
-                  scene=scene.name, description=scene.description, body=body,
+    return render("notes", options, babel=LANGUAGES[options["language"]],
+                  scene=plain(scene.name), description=plain(scene.description or ""), body=body,
                   references="references" in options["sections"])
 
 
@@ -345,7 +422,7 @@ def assemble(scene, options, results):
         engine = tex_engine()
         if engine is None:
             files["notes.pdf"] = Kept(
-                "notes.pdf", inputs=sorted(files),
+                "notes.pdf", inputs=sorted(files), product="notes",
                 reason="neither pdflatex nor latexmk is installed: notes.tex is written")
         else:
             files["notes.pdf"] = compile_pdf(files, engine)
@@ -355,6 +432,11 @@ def assemble(scene, options, results):
 def produce(ctx, options):
     """{file: text or bytes}: every section in order, assembled."""
     return assemble(ctx.scene, options, {s: produce_part(ctx, options, s) for s in parts(options)})
+
+
+def can_make(name):
+    """Whether this machine can make file ``name`` of the product (notes.pdf needs TeX)."""
+    return name != "notes.pdf" or tex_engine() is not None
 
 
 def tex_engine():
@@ -402,18 +484,39 @@ def compile_pdf(files, engine="pdflatex"):
                 raise InputError(f"{cmd[0]} took more than 300 s on notes.tex") from None
             if done.returncode != 0:
                 raise InputError(f"{cmd[0]} failed on notes.tex: {_first_error(tmp)}")
+        unresolved = _unresolved(tmp)
+        if unresolved:
+            raise InputError(f"notes.tex has {unresolved} after {engine}'s last run")
         with open(os.path.join(tmp, "notes.pdf"), "rb") as f:
             return f.read()
 
 
-def _first_error(directory):
+def _log(directory):
+    """The text of notes.log in ``directory`` (None where pdfTeX wrote none)."""
     import os
     try:
         with open(os.path.join(directory, "notes.log"), encoding="utf-8", errors="replace") as f:
-            log = f.read()
+            return f.read()
     except OSError:
+        return None
+
+
+def _unresolved(directory):
+    """"undefined references" or "undefined citations" where the log of notes.tex says so, else ""."""
+    log = _log(directory) or ""
+    found = [kind for kind, mark in (("undefined references", "LaTeX Warning: Reference"),
+                                     ("undefined citations", "LaTeX Warning: Citation"))
+             if mark in log]
+    return " and ".join(found)
+
+
+def _first_error(directory):
+    """The first error line of notes.log in ``directory``."""
+    import re
+    log = _log(directory)
+    if log is None:
         return "no log written"
     for line in log.splitlines():
-        if line.startswith("!") or ":" in line and "error" in line.lower():
+        if line.startswith("!") or re.match(r"\S*\.tex:\d+: ", line):
             return line.strip()[:200]
     return "see its log"

@@ -5,7 +5,8 @@ Writes, under generated/<scene>/:
 * ``series.json`` - for kind "nu": "alpha" (order -> expression in nu), "c" and
   "s" (order -> list of [k, coefficient], meaning coefficient * cos((nu + 2k) tau),
   resp. sin); for each integer kind ("a0", "b1", ...): "coefficients" (power of
-  q -> exact rational as text) and "radius" (DLMF Table 28.6.1).  Expressions
+  q -> exact rational as text), "radius" (the computed nearest branch point) and
+  "radius_source" (which says so, and whether DLMF Table 28.6.1 has the row).  Expressions
   are written in SymPy's syntax straight from the exact coefficients
   (``RatFun.text``), and SymPy reads them back to the same expressions.
 * ``series.tex`` - LaTeX (amsmath ``align*``), long coefficients broken across
@@ -133,7 +134,7 @@ def _int_tokens(value, first):
     """Tokens of a signed integer; long integers are split into digit groups."""
     sign = "-" if value < 0 else ("+" if not first else "")
     digits = str(abs(value))
-    piece = LINE_WIDTH - 8
+    piece = LINE_WIDTH - 12  # digits of one row: with the widest name and \quad, within the text
     chunks = [digits[i:i + piece] for i in range(0, len(digits), piece)]
     out = []
     for i, ch in enumerate(chunks):

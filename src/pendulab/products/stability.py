@@ -118,7 +118,7 @@ def document(table, inertia_ratio_expr, scene_name):
                       "a_over_l": "a/l"},
         "note": "inverted position stable for lower < a/l < upper; upper null: the method "
                 "gives no upper limit (000 eqs. 12, 19, 28); integer-series null: the limit lies "
-                "beyond the radius of convergence (DLMF Table 28.6.1)",
+                "beyond the radius of convergence (computed branch point, DLMF Table 28.6.1)",
     }
 
 
@@ -135,32 +135,39 @@ def _cell(value):
 
 
 def latex_table(doc):
-    """A booktabs table: lower limits, then upper limits; one row per omega0/omega.
+    """Booktabs tables of the limits: for each run of rows of omega0/omega, a float with the
+    lower limits above the upper ones.
 
-    Columns are lettered (a), (b), ... with the methods named in the caption, so
-    that the table stays within the text width whatever the methods' names.
+    Columns are lettered (a), (b), ... with the methods named in the caption, so that the
+    table stays within the text width whatever the methods' names; more than
+    :data:`pendulab.latex.FLOAT_COLUMNS` methods go into several floats, and so do more
+    than :data:`pendulab.latex.FLOAT_ROWS` rows, so that every float fits a page of a bare
+    article (tests/test_latex.py compiles the fragments there).
     """
+    from pendulab.latex import (FLOAT_COLUMNS, FLOAT_ROWS, chunks, float_run, part_note,
+                                table_float, tabular)
     methods = doc["methods"]
     letters = [f"({chr(ord('a') + k)})" for k in range(len(methods))]
-    legend = "; ".join(f"{letter} {_label(m)}" for letter, m in zip(letters, methods))
-    head = " & ".join([r"$\omega_0/\omega$"] + letters)
-    spec = "r" + "c" * len(methods)
-    blocks = []
-    for side in ("lower", "upper"):
-        rows = []
-        for i, rho in enumerate(doc["w0_over_w"]):
-            cells = [f"{rho:.3f}"] + [_cell(doc["limits"][m][i][side]) for m in methods]
-            rows.append(" & ".join(cells) + r" \\")
-        blocks.append(f"\\begin{{tabular}}{{{spec}}}\n\\toprule\n"
-                      f"\\multicolumn{{{len(methods) + 1}}}{{c}}{{{side} limit of $a/l$}} \\\\\n"
-                      f"\\midrule\n{head} \\\\\n\\midrule\n"
-                      + "\n".join(rows) + "\n\\bottomrule\n\\end{tabular}\n")
-    return (_BANNER.format(name=doc["scene"])
-            + "\\begin{table}\n\\centering\n"
-            + f"\\caption{{Limits of $a/l$ for the inverted pendulum, "
-              f"$I/(m l^2) = {doc['inertia_ratio']}$: {legend}.}}\n"
-            + "\n\\medskip\n".join(blocks)
-            + "\\end{table}\n")
+    ratios = doc["w0_over_w"]
+    groups = chunks(len(methods), FLOAT_COLUMNS)
+    runs = chunks(len(ratios), FLOAT_ROWS)
+    floats = []
+    for columns in groups:
+        legend = "; ".join(f"{letters[k]} {_label(methods[k])}" for k in columns)
+        head = [r"$\omega_0/\omega$"] + [letters[k] for k in columns]
+        spec = "r" + "c" * len(columns)
+        for rows in runs:
+            blocks = []
+            for side in ("lower", "upper"):
+                cells = [[f"{ratios[i]:.3f}"] + [_cell(doc["limits"][methods[k]][i][side])
+                                                  for k in columns] for i in rows]
+                blocks.append(tabular(spec, head, cells, title=f"{side} limit of $a/l$"))
+            index = len(floats)
+            note = part_note(index, len(groups) * len(runs))
+            caption = (f"Limits of $a/l$ for the inverted pendulum, "
+                       f"$I/(m l^2) = {doc['inertia_ratio']}${note}: {legend}.")
+            floats.append(table_float(caption, "\n\\medskip\n".join(blocks)))
+    return _BANNER.format(name=doc["scene"]) + float_run(floats)
 
 
 def figure_svg(doc):
@@ -186,7 +193,7 @@ def figure(doc, fmt="svg"):
     rc = {"svg.hashsalt": "pendulab", "svg.fonttype": "path", "figure.figsize": (6.0, 4.5),
           "font.size": 9}
     if fmt == "pdf":
-        rc.update({"figure.figsize": (5.4, 3.9), "mathtext.fontset": "cm", "pdf.fonttype": 42})
+        rc.update({"figure.figsize": (5.4, 3.9), "mathtext.fontset": "cm"})
     with matplotlib.rc_context(rc):
         fig, ax = plt.subplots()
         try:
@@ -206,10 +213,7 @@ def figure(doc, fmt="svg"):
             ax.set_ylim(0, 1)
             ax.set_xlabel(r"$a/l$")
             ax.set_ylabel(r"$\omega_0/\omega$")
-            if fmt == "pdf":  # the notes' caption says what the title would
-                ax.set_title(y=1.0, label=f"$I/(m l^2) = {doc['inertia_ratio']}$: stable between "
-                             "the lower and the upper limit of each method")
-            else:
+            if fmt != "pdf":  # the notes' caption says what the title would
                 ax.set_title(y=1.0, label=f"Inverted pendulum, I/(m l^2) = {doc['inertia_ratio']}: "
                              "stable between lower and upper")
             ax.legend(loc="upper left", frameon=False)
