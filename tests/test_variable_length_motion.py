@@ -16,7 +16,6 @@ References, each independent of the code under test:
 
 import json
 import math
-import re
 import shutil
 import subprocess
 
@@ -455,13 +454,6 @@ def test_missing_values_for_other_symbols(tmp_path):
     assert "needs numbers for Omega, eps" in str(info.value)
 
 
-def _preamble():
-    """The preamble tests/test_latex.py compiles the generated fragments with."""
-    from pathlib import Path
-    text = (Path(__file__).parent / "test_latex.py").read_text()
-    return re.search(r'PREAMBLE = r"""(.*?)"""', text, re.S).group(1)
-
-
 @pytest.mark.skipif(shutil.which("pdflatex") is None,
                     reason="pdflatex not installed (apt-get install texlive-latex-base texlive-latex-recommended)")
 @pytest.mark.parametrize("length, options", [
@@ -472,13 +464,15 @@ def _preamble():
 def test_motion_tex_compiles_without_overfull_boxes(tmp_path, length, options):
     out = tmp_path / "out"
     build(_scene(tmp_path, length, options), out_root=out, log=lambda *a: None)
+    # the bare article and the strict log check of tests/test_latex.py
+    from test_latex import bare_document, log_problems
     doc = tmp_path / "notes.tex"
-    doc.write_text(_preamble() + (out / "vl" / "motion.tex").read_text() + "\n\\end{document}\n")
+    doc.write_text(bare_document((out / "vl" / "motion.tex").read_text()))
     res = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", doc.name],
                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
     log = (tmp_path / "notes.log").read_text(errors="replace")
     assert res.returncode == 0, log[-2000:]
-    assert not [line for line in log.splitlines() if line.startswith("Overfull \\hbox")]
+    assert log_problems(log) == []
 
 
 @pytest.mark.slow
