@@ -289,6 +289,7 @@ def test_availability_follows_the_compiler(tmp_path, monkeypatch):
         ckernel.clear_loaded()
 
 
+@pytest.mark.needs_cc
 def test_the_same_bits_with_and_without_wide_vectors(tmp_path, monkeypatch, rng):
     """No FMA contraction, the kernel's own sine: an SSE2 build equals the native build."""
     fos = system("rod")
@@ -297,13 +298,16 @@ def test_the_same_bits_with_and_without_wide_vectors(tmp_path, monkeypatch, rng)
     params = rng.uniform(0, 1, (n, 2))
     native = ckernel.load(fos, required=True)
     ckernel.clear_loaded()
+    if tuple(native.flags) == ckernel.FLAG_SETS[-1]:
+        pytest.skip("this compiler takes none of the -march=native flag sets: both builds "
+                    "would be the portable one")
     monkeypatch.setattr(ckernel, "FLAG_SETS", ckernel.FLAG_SETS[-1:])
     monkeypatch.setenv("PENDULAB_CACHE_DIR", str(tmp_path / "cache"))
     try:
         plain = ckernel.load(fos, required=True)
     finally:
         ckernel.clear_loaded()
-    assert "-march=native" in native.flags and "-march=native" not in plain.flags
+    assert tuple(plain.flags) == ckernel.FLAG_SETS[-1] != tuple(native.flags)
     a = native.ensemble(y0, params, 0.0, 0.05, 2000, threads=2)
     b = plain.ensemble(y0, params, 0.0, 0.05, 2000, threads=1)
     for u, v in zip(a[:4], b[:4]):
