@@ -175,6 +175,7 @@ def test_scalar_function_is_the_lambdified_derivation(name, rng):
 # -- the C kernel ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("name", sorted(SYSTEMS))
+@pytest.mark.needs_cc
 def test_c_and_numpy_right_hand_sides_agree(name, rng):
     fos = system(name)
     kernel = ckernel.load(fos, required=True)
@@ -201,6 +202,7 @@ def _ulps(got, x, fn):
     return worst
 
 
+@pytest.mark.needs_cc
 def test_vectorisable_sine_and_cosine_are_within_two_ulps(rng):
     kernel = ckernel.load(system("rod"), required=True)
     near = np.array([k * math.pi / 2 for k in range(-40, 41)])  # the hard points of the reduction
@@ -231,6 +233,7 @@ def _script(path, body):
     return path
 
 
+@pytest.mark.needs_cc
 def test_cache_hit_on_second_use(tmp_path, monkeypatch):
     log = tmp_path / "calls.log"
     cc = _script(tmp_path / "cc-logged", f'case "$*" in *-shared*) echo compile >> "{log}";; esac\n'
@@ -275,6 +278,7 @@ def test_failing_compiler_falls_back_to_numpy_with_one_notice(tmp_path, monkeypa
     assert not list(tmp_path.rglob("*.so"))
 
 
+@pytest.mark.needs_cc
 def test_availability_follows_the_compiler(tmp_path, monkeypatch):
     monkeypatch.setenv("PENDULAB_CACHE_DIR", str(tmp_path / "cache"))
     ckernel.clear_loaded()
