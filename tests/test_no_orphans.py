@@ -181,7 +181,7 @@ def test_sweep_workers_die_with_a_killed_sweep(tmp_path):
     assert left == [], f"alive after {GRACE} s: {[_cmdline(p) for p in left]}"
 
 
-def test_a_worker_whose_parent_is_gone_ends_itself(tmp_path):
+def test_a_worker_whose_parent_is_gone_ends_itself():
     """die_with_parent called with a pid that is not the parent's (the parent died before the
     signal was armed) ends the process at once, with its own status."""
     from pendulab import procs
@@ -192,7 +192,7 @@ def test_a_worker_whose_parent_is_gone_ends_itself(tmp_path):
     assert run.returncode == procs.ORPHANED and "went on" not in run.stdout, run
 
 
-def test_the_watchdog_ends_an_orphan_without_the_signal(tmp_path):
+def test_the_watchdog_ends_an_orphan_without_the_signal():
     """The portable fallback alone (no PR_SET_PDEATHSIG, as on a system without prctl): a
     grandchild whose parent is killed ends itself within GRACE s, while blocked in a sleep."""
     code = """\
