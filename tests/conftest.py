@@ -1,7 +1,29 @@
-"""Shared fixtures: mpmath's global precision is reset around every test."""
+"""Shared fixtures: mpmath's global precision is reset around every test; tests marked
+``needs_cc`` (they build C kernels) skip where no C compiler is found.
+
+To run the suite as on a machine without a compiler, name a missing one in both variables
+pendulab reads, e.g. ``PENDULAB_CC=/nonexistent CC=/nonexistent``: the C tests skip and
+every other test runs on the NumPy path (fixtures that unset PENDULAB_CC still meet $CC).
+"""
+
+import shutil
 
 import mpmath
 import pytest
+
+
+def c_compiler():
+    """The C compiler pendulab would run ($PENDULAB_CC, else $CC, else cc) where it is found
+    on this machine, else None."""
+    from pendulab.numerics.ckernel import compiler_command
+    cmd = compiler_command()
+    return shutil.which(cmd[0]) if cmd else None
+
+
+def pytest_runtest_setup(item):
+    if item.get_closest_marker("needs_cc") is not None and c_compiler() is None:
+        pytest.skip("no C compiler found ($PENDULAB_CC, $CC or cc): the C kernels cannot be "
+                    "built here (pendulab takes the NumPy path, which its own tests cover)")
 
 
 @pytest.fixture(autouse=True)

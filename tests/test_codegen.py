@@ -175,6 +175,7 @@ def test_scalar_function_is_the_lambdified_derivation(name, rng):
 # -- the C kernel ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("name", sorted(SYSTEMS))
+@pytest.mark.needs_cc
 def test_c_and_numpy_right_hand_sides_agree(name, rng):
     fos = system(name)
     kernel = ckernel.load(fos, required=True)
@@ -201,6 +202,7 @@ def _ulps(got, x, fn):
     return worst
 
 
+@pytest.mark.needs_cc
 def test_vectorisable_sine_and_cosine_are_within_two_ulps(rng):
     kernel = ckernel.load(system("rod"), required=True)
     near = np.array([k * math.pi / 2 for k in range(-40, 41)])  # the hard points of the reduction
@@ -231,6 +233,7 @@ def _script(path, body):
     return path
 
 
+@pytest.mark.needs_cc
 def test_cache_hit_on_second_use(tmp_path, monkeypatch):
     log = tmp_path / "calls.log"
     cc = _script(tmp_path / "cc-logged", f'case "$*" in *-shared*) echo compile >> "{log}";; esac\n'
@@ -275,6 +278,7 @@ def test_failing_compiler_falls_back_to_numpy_with_one_notice(tmp_path, monkeypa
     assert not list(tmp_path.rglob("*.so"))
 
 
+@pytest.mark.needs_cc
 def test_availability_follows_the_compiler(tmp_path, monkeypatch):
     monkeypatch.setenv("PENDULAB_CACHE_DIR", str(tmp_path / "cache"))
     ckernel.clear_loaded()
@@ -289,6 +293,7 @@ def test_availability_follows_the_compiler(tmp_path, monkeypatch):
         ckernel.clear_loaded()
 
 
+@pytest.mark.needs_cc
 def test_the_same_bits_with_and_without_wide_vectors(tmp_path, monkeypatch, rng):
     """No FMA contraction, the kernel's own sine: an SSE2 build equals the native build."""
     fos = system("rod")
@@ -297,13 +302,16 @@ def test_the_same_bits_with_and_without_wide_vectors(tmp_path, monkeypatch, rng)
     params = rng.uniform(0, 1, (n, 2))
     native = ckernel.load(fos, required=True)
     ckernel.clear_loaded()
+    if tuple(native.flags) == ckernel.FLAG_SETS[-1]:
+        pytest.skip("this compiler takes none of the -march=native flag sets: both builds "
+                    "would be the portable one")
     monkeypatch.setattr(ckernel, "FLAG_SETS", ckernel.FLAG_SETS[-1:])
     monkeypatch.setenv("PENDULAB_CACHE_DIR", str(tmp_path / "cache"))
     try:
         plain = ckernel.load(fos, required=True)
     finally:
         ckernel.clear_loaded()
-    assert "-march=native" in native.flags and "-march=native" not in plain.flags
+    assert tuple(plain.flags) == ckernel.FLAG_SETS[-1] != tuple(native.flags)
     a = native.ensemble(y0, params, 0.0, 0.05, 2000, threads=2)
     b = plain.ensemble(y0, params, 0.0, 0.05, 2000, threads=1)
     for u, v in zip(a[:4], b[:4]):

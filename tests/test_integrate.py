@@ -48,6 +48,7 @@ def test_rk4_is_of_order_four(name, linear):
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
+@pytest.mark.needs_cc
 def test_c_and_numpy_integrators_give_the_same_bits(name, rng):
     fos = system(name)
     _, p, dt = CASES[name]
@@ -63,6 +64,7 @@ def test_c_and_numpy_integrators_give_the_same_bits(name, rng):
             assert np.array_equal(getattr(c, field), getattr(py, field)), field
 
 
+@pytest.mark.needs_cc
 def test_statistics_are_over_the_states_including_the_initial_one():
     fos = system("rod")
     y0, p = [0.06, 0.01], [0.2, 0.05]
@@ -82,6 +84,7 @@ def test_statistics_are_over_the_states_including_the_initial_one():
     assert r.max_abs_theta[0] == 0.5
 
 
+@pytest.mark.needs_cc
 def test_trajectories_c_and_numpy_give_the_same_bits():
     fos = system("string-periodic")
     y0, p, dt = CASES["string-periodic"]
@@ -91,6 +94,7 @@ def test_trajectories_c_and_numpy_give_the_same_bits():
     assert np.array_equal(sc, sn)
 
 
+@pytest.mark.needs_cc
 def test_beyond_the_fast_sine_range_the_library_sine_is_used():
     fos = system("rod")
     limit = codegen.SIN_LIMIT
@@ -108,6 +112,7 @@ def test_beyond_the_fast_sine_range_the_library_sine_is_used():
     np.testing.assert_allclose(sc, sn, rtol=1e-12)
 
 
+@pytest.mark.needs_cc
 def test_threads_do_not_change_a_bit(rng):
     fos = system("rod")
     n = 333
@@ -125,6 +130,7 @@ def _child(queue):
     queue.put((r.backend, float(r.y[0, 0])))
 
 
+@pytest.mark.needs_cc
 def test_the_kernel_runs_in_a_forked_process_after_use_in_the_parent():
     fos = system("rod")
     here = ensemble_rk4(fos, [[0.06, 0.01]] * 40, [0.2, 0.05], 0.0, 0.05, 200, threads=2)
@@ -137,6 +143,7 @@ def test_the_kernel_runs_in_a_forked_process_after_use_in_the_parent():
     assert got == ("c", float(here.y[0, 0]))
 
 
+@pytest.mark.needs_cc
 def test_a_blow_up_shows_in_the_statistics():
     # the string shortening through zero length: L0 + v0 t = 0 at t = 1
     fos = system("string-linear")
@@ -255,6 +262,7 @@ def test_default_threads_is_positive():
     assert integrate.default_threads() >= 1
 
 
+@pytest.mark.needs_cc
 def test_a_large_time_argument_also_takes_the_library_sine():
     # L(t) = L0 (1 + e cos(w t)) far out in time: sin(w t) beyond SIN_LIMIT, theta small
     fos = system("string-periodic")

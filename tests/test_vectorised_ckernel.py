@@ -51,6 +51,7 @@ def _same_bits(a, b):
     assert a.dtype == b.dtype and np.array_equal(a.view(np.uint64), b.view(np.uint64))
 
 
+@pytest.mark.needs_cc
 def test_random_points_give_the_same_bits(rng, monkeypatch):
     nu = rng.uniform(0.0, 6.0, 4000)
     th1 = rng.uniform(-30.0, 30.0, 4000) * rng.choice([1e-3, 1.0], 4000)
@@ -67,6 +68,7 @@ def test_random_points_give_the_same_bits(rng, monkeypatch):
     _same_bits(c, n)
 
 
+@pytest.mark.needs_cc
 def test_lambda_grid_rows_give_the_same_bits(monkeypatch):
     nu, q, lam = np.loadtxt(DATA, delimiter=",", comments="#", unpack=True)
     c, n = _both(theta0_of_exponent, monkeypatch, nu, -q)
@@ -75,6 +77,7 @@ def test_lambda_grid_rows_give_the_same_bits(monkeypatch):
     _same_bits(c, n)
 
 
+@pytest.mark.needs_cc
 def test_trace_continuants_give_the_same_bits(rng, monkeypatch):
     # the gap route's Hill determinant (pendulab_trace_continuants) against the
     # NumPy continuants, also where the trace is huge (large |theta1|)
@@ -85,6 +88,7 @@ def test_trace_continuants_give_the_same_bits(rng, monkeypatch):
     assert np.isfinite(c).all() and np.abs(c).max() > 1e10
 
 
+@pytest.mark.needs_cc
 def test_trace_continuants_against_mpmath():
     # the four depths kept by the C recurrence against the same continuants of
     # Hill's rows in 40-digit mpmath (pendulab.analyses.floquet._hill.continuants)
@@ -117,6 +121,7 @@ def test_guess_polynomials_are_accurate():
     assert np.abs(V._cospi01(x) - ref).max() <= 1e-11
 
 
+@pytest.mark.needs_cc
 def test_portable_build_gives_the_same_bits(rng, tmp_path, monkeypatch):
     # the last flag set (no -march=native: SSE2 on x86-64) against the first
     # that built (AVX-512 or AVX2 vectors where the CPU has them)
@@ -134,6 +139,7 @@ def test_portable_build_gives_the_same_bits(rng, tmp_path, monkeypatch):
     _same_bits(exponent(nu * nu + 0.3, th1), ref_exp)
 
 
+@pytest.mark.needs_cc
 def test_missing_compiler_takes_the_numpy_path_with_one_notice(rng, tmp_path, monkeypatch,
                                                                 capsys):
     nu = rng.uniform(0.0, 3.0, 300)
@@ -152,6 +158,32 @@ def test_missing_compiler_takes_the_numpy_path_with_one_notice(rng, tmp_path, mo
     assert len(lines) == 1
     assert lines[0].startswith("pendulab: notice: C kernel 'floquet band Newton' unavailable")
     assert lines[0].endswith("using the NumPy path")
+    _same_bits(got_inv, ref_inv)
+    _same_bits(got_exp, ref_exp)
+    assert not list(tmp_path.rglob("*.so"))
+
+
+def test_without_a_compiler_the_numpy_path_answers_after_one_notice(rng, tmp_path,
+                                                                     monkeypatch, capsys):
+    """Runs on every machine: the compiler forced missing gives the NumPy path's own bits
+    (the path PENDULAB_BAND_NUMPY=1 chooses) and one notice, written once per process."""
+    nu = rng.uniform(0.0, 3.0, 300)
+    th1 = rng.uniform(-5.0, 5.0, 300)
+    monkeypatch.setenv("PENDULAB_BAND_NUMPY", "1")
+    ref_inv, ref_exp = theta0_of_exponent(nu, th1), exponent(nu * nu, th1)
+    monkeypatch.delenv("PENDULAB_BAND_NUMPY")
+    capsys.readouterr()
+    ckernel.clear_loaded()
+    V._C_STATE.clear()
+    monkeypatch.setenv("PENDULAB_CC", str(tmp_path / "no-such-cc"))
+    got_inv = theta0_of_exponent(nu, th1)
+    got_exp = exponent(nu * nu, th1)
+    V._C_STATE.clear()  # asked again: the C library is not, and says nothing more
+    assert V._c_band() is None
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1, lines
+    assert lines[0].startswith("pendulab: notice: C kernel 'floquet band Newton' unavailable")
+    assert "no-such-cc" in lines[0] and lines[0].endswith("using the NumPy path")
     _same_bits(got_inv, ref_inv)
     _same_bits(got_exp, ref_exp)
     assert not list(tmp_path.rglob("*.so"))
@@ -198,6 +230,7 @@ ROW_POINTS = [(0.37, 0.75, 1.3), (1.6, -2.5, 0.4), (2.25, 3.0, 7.7), (0.9, 0.125
 
 @pytest.mark.parametrize("a, theta1, x", ROW_POINTS)
 @pytest.mark.parametrize("kind", ["eigen", "nu"])
+@pytest.mark.needs_cc
 def test_kernel_rows_are_the_derived_recurrence(kind, a, theta1, x):
     lib = V._c_band()
     assert lib is not None
@@ -242,7 +275,11 @@ def test_load_source_required_raises_one_line(tmp_path, monkeypatch):
     with pytest.raises(InputError, match="C kernel 'probe' unavailable") as info:
         ckernel.load_source("probe", "int pendulab_x(void) { return 2; }\n", required=True)
     assert "\n" not in str(info.value)
-    monkeypatch.delenv("PENDULAB_CC")
+
+
+@pytest.mark.needs_cc
+def test_load_source_builds_and_loads_a_hand_kernel(monkeypatch):
+    monkeypatch.delenv("PENDULAB_CC", raising=False)
     ckernel.clear_loaded()
     lib = ckernel.load_source("probe", "int pendulab_x(void) { return 2; }\n", required=True)
     assert lib.pendulab_x() == 2

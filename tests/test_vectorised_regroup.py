@@ -180,6 +180,7 @@ def test_group_order_is_the_stable_sort():
         assert groups == [g.tolist() for g in _old_groups(key)]
 
 
+@pytest.mark.needs_cc
 def test_newton_eigen_kernel_gives_the_numpy_bits(monkeypatch):
     """The C loop of _newton_eigen (the certified edges' corrector) against its
     NumPy loop on the DLMF 28.4 matrices at random q, from rough guesses, from

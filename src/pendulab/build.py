@@ -16,6 +16,7 @@ from pathlib import Path
 from pendulab import __version__
 from pendulab.errors import InputError, PendulabError, SceneError
 from pendulab.io import canonical_json, clean_leftovers, publish_lock, write_tree
+from pendulab.procs import die_with_parent
 from pendulab.scene import load_scene
 
 MANIFEST = "manifest.json"
@@ -388,9 +389,12 @@ def compute_scenes(scenes, jobs=1):
                         [_weight(t) for t in tasks])
         if frozen:
             gc.freeze()  # the shared heap stays out of the collections (the workers' pages stay shared)
+        parent = os.getpid()
         for me in range(1, min(jobs, len(tasks))):
             receive, send = fork.Pipe(duplex=False)
-            proc = fork.Process(target=_worker, args=(scenes, tasks, state, send, me), daemon=True)
+            others = [r for _, r in workers]  # inherited by the fork: the worker closes them
+            proc = fork.Process(target=_worker, args=(scenes, tasks, state, send, me, parent, others),
+                                daemon=True)
             proc.start()
             send.close()
             workers.append((proc, receive))
@@ -497,11 +501,19 @@ def _take_products(scenes, tasks, state, me):
     return done
 
 
-def _worker(scenes, tasks, state, send, me):
-    """A forked worker: take products, send what they gave, end without tearing down."""
+def _worker(scenes, tasks, state, send, me, parent, others):
+    """A forked worker: take products, send what they gave, end without tearing down.
+
+    It dies with ``parent`` however that dies (:func:`pendulab.procs.die_with_parent`),
+    and closes ``others``, the read ends of the pipes of the workers forked before it,
+    so that a worker whose reader is gone is told so (EPIPE) instead of waiting for ever.
+    """
     import signal
     status = 1
     try:
+        die_with_parent(parent)
+        for receive in others:
+            receive.close()
         signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent stops the workers itself
         send.send(_take_products(scenes, tasks, state, me))
         send.close()

@@ -607,9 +607,13 @@ def run_tasks(spec, tasks, executor="serial", *, workers=None, client=None, back
         elif executor == "processes":
             import concurrent.futures as cf
             import multiprocessing as mp
+            from pendulab.procs import die_with_parent
             n = workers or min(len(tasks), os.cpu_count() or 1)
-            # one thread per process: the processes already use the cores
-            with cf.ProcessPoolExecutor(max_workers=max(1, n), mp_context=mp.get_context("spawn")) as pool:
+            # one thread per process: the processes already use the cores; each worker dies
+            # with this process, however it dies (pendulab.procs)
+            with cf.ProcessPoolExecutor(max_workers=max(1, n), mp_context=mp.get_context("spawn"),
+                                        initializer=die_with_parent,
+                                        initargs=(os.getpid(),)) as pool:
                 fos = first_order_system(spec.system)
                 futures = [pool.submit(_chunk_task, (spec, t, backend, 1, fos)) for t in tasks]
                 try:
