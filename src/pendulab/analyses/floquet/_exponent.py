@@ -176,7 +176,9 @@ def characteristic_exponent(theta0, theta1, dps=None, method=None, max_dps=None)
     if _is_zero(X1):
         return _free(X0, dps, want, method)
     if method == "arb":
-        return _arb_exponent(X0, X1, dps, want, max_dps, theta0, theta1)
+        # in double precision: 17 digits proved, then rounded (16 would round twice)
+        return _arb_exponent(X0, X1, dps, want if dps is not None else DOUBLE_DPS + 1,
+                             max_dps, theta0, theta1)
 
     # u = (lam - e)^2 is computed at two working precisions w < w2.  Its sign (the
     # verdict) is *decided* when both agree on the band, on the sign, with the
