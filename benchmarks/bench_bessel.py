@@ -1,4 +1,4 @@
-"""Speed of the certified Bessel computations (issue 11), one command:
+"""Speed of the certified Bessel computations, one command:
 
     python benchmarks/bench_bessel.py          (add --quick to time the mpmath loop on 200 zeros only;
                                                 --products [--rounds N] for section 5 alone)

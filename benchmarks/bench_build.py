@@ -1,4 +1,4 @@
-"""Time of the main job (issue 10 item 6), one command:
+"""Time of the main job, one command:
 
     python benchmarks/bench_build.py [--repeat N] [--jobs J] [--issue-job | --issue-units]
 

@@ -1,4 +1,4 @@
-"""Speed of the exact Floquet analysis (issue 4), one command:
+"""Speed of the exact Floquet analysis, one command:
 
     python benchmarks/bench_floquet.py
 

@@ -1,4 +1,4 @@
-"""Speed of deriving a Fourier drive (issue 10), one command:
+"""Speed of deriving a Fourier drive, one command:
 
     python benchmarks/bench_fourier_drive.py [--baseline-timeout SECONDS]
 
@@ -6,7 +6,7 @@
 for N = 3, 8, 12, 40, each in a fresh interpreter (wall and CPU time of the
 whole command).  Targets: N = 12 under 2 s, N = 40 under 10 s.
 
-Baseline: the same command with the code before issue 10 (git revision
+Baseline: the same command with the code before the bounded-work changes (git revision
 BASELINE, extracted with ``git archive`` into a temporary directory; it
 rewrote the coefficient as exponentials, expanded and simplified it, and
 trigsimp'ed the whole Lagrangian).  A baseline run longer than the timeout
@@ -22,7 +22,7 @@ import tempfile
 import time
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-#: the last revision before issue 10's bounded-work changes
+#: the last revision before the bounded-work changes
 BASELINE = "995e9c2"
 
 

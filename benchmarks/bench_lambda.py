@@ -1,8 +1,8 @@
-"""lambda of 000 eq. 7 at 50 and 1000 digits: ours (certified) beside two expert baselines (issue 12).
+"""lambda of 000 eq. 7 at 50 and 1000 digits: ours (certified) beside two expert baselines.
 
     python benchmarks/bench_lambda.py
 
-Targets (issue 12): lambda and the verdict at 50 digits in at most 1 ms per
+Targets: lambda and the verdict at 50 digits in at most 1 ms per
 point, at 1000 digits in at most 50 ms.
 
 * ours: ``characteristic_exponent(theta0, theta1, dps=D)`` -- the default

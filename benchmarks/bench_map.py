@@ -1,5 +1,5 @@
 """Speed of the inverted pendulum's exact map and of the vectorised exponent and
-inverse (issue 12), one command:
+inverse, one command:
 
     python benchmarks/bench_map.py
 

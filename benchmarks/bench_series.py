@@ -1,4 +1,4 @@
-"""Speed and memory of the perturbation series (issue 3); run: python benchmarks/bench_series.py
+"""Speed and memory of the perturbation series; run: python benchmarks/bench_series.py
 
 Prints, from one run in one process:
 

@@ -1,4 +1,4 @@
-"""The exact series engines beside expert baselines (issue 12); run: python benchmarks/bench_series_engines.py
+"""The exact series engines beside expert baselines; run: python benchmarks/bench_series_engines.py
 
 Prints, from one run in one process, CPU time (time.process_time; python-flint
 runs single-threaded), each figure beside its baseline and the ratio

@@ -1,4 +1,4 @@
-"""Start-up time of ``pendulab`` commands that compute little (issue 12: at most 0.5 s).
+"""Start-up time of ``pendulab`` commands that compute little (target: at most 0.5 s).
 
 One command:  python benchmarks/bench_startup.py [--runs 5]
 

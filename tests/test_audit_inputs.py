@@ -1,4 +1,4 @@
-"""Inputs an audit of issue 10 (2026-12-03) found giving a traceback, hanging or a wrong message.
+"""Inputs an audit of the command line (2026-12-03) found giving a traceback, hanging or a wrong message.
 
 Each case must now give one ``pendulab: error:`` line with exit status 2 (command line) or a
 PendulabError (API), naming what is wrong; the accepted neighbours of each case still work.

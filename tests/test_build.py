@@ -281,7 +281,7 @@ def test_console_script_runs():
     assert res.returncode == 0 and json.loads(res.stdout)["canonical"]["kind"] == "mathieu"
 
 
-# -- right errors, early (issue 10 item 4) -----------------------------------------
+# -- right errors, early -----------------------------------------
 
 def _no_work(monkeypatch):
     """Make reading or computing a scene fail the test: the check must come first."""
@@ -414,7 +414,7 @@ def test_two_builds_at_once_both_succeed(tmp_path):
     assert build(path, out, log=lambda m: None) == {"scene": "up to date"}
 
 
-# -- each derivation once per build (issue 10 item 6) --------------------------------
+# -- each derivation once per build --------------------------------
 
 def test_the_body_does_not_enter_the_driven_pivots_equations():
     """Why one derivation serves every body (pendulab.equations.derive): derived afresh for

@@ -1,4 +1,4 @@
-"""What makes the main job fast (issue 10 item 6) gives the values of the plain code, bit for bit.
+"""What makes the main job fast gives the values of the plain code, bit for bit.
 
 * the stability-interval scan of the series (pendulab.analyses.series._branch_scan:
   batched companion eigenvalues, brentq polish on demand) against the scalar

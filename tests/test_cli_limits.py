@@ -1,4 +1,4 @@
-"""Every numeric option of the command line has its range in pendulab.limits.LIMITS (issue 10).
+"""Every numeric option of the command line has its range in pendulab.limits.LIMITS.
 
 The parsers are introspected: each option that takes a value is either a
 numeric option registered with :func:`pendulab.limits.argument` (its argparse

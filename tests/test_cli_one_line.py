@@ -1,7 +1,7 @@
 """Usage errors of every command are one line, ``pendulab: error: ...``, exit status 2.
 
 argparse itself would print the usage text first; and accepted options must
-not ask for hours of work (issue 10: bounded work).
+not ask for hours of work (bounded work).
 """
 
 import pytest

@@ -1,4 +1,4 @@
-"""Method "arb": certified exponent, characteristic values and first band (issue 12).
+"""Method "arb": certified exponent, characteristic values and first band.
 
 References (independent of the ball-arithmetic route):
 * the mpmath routes of the package ("cf", "hill", method="mpmath" of the

@@ -1,5 +1,5 @@
 """The vectorised inverse and exponent against MathieuFunctions.jl's lambda grid
-(issue 12): lambda_nu(q) for nu = 0, 0.01, ..., 2 and q = -5 ... 5, computed
+: lambda_nu(q) for nu = 0, 0.01, ..., 2 and q = -5 ... 5, computed
 with Mathematica (tests/data/mathieu_lambda_grid.csv says which rows and
 columns are kept, and where they come from).
 

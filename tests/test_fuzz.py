@@ -274,7 +274,7 @@ def test_any_command_line_succeeds_or_fails_cleanly(argv):
         assert_clean(code, err, argv)
 
 
-# -- the examples of issue 10, as a user runs them ---------------------------------------------
+# -- the examples of a newcomer's report, as a user runs them ---------------------------------------------
 
 def _subprocess(args, tmp_path):
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))

@@ -1,4 +1,4 @@
-"""generated/ does not depend on SymPy's ground types (issue 12).
+"""generated/ does not depend on SymPy's ground types.
 
 SymPy 1.14 picks the integers and rationals under its polynomials when it is
 first imported: "flint" by itself when python-flint is installed, else

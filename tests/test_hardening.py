@@ -1,4 +1,4 @@
-"""Issue 10 (input half): bounded work, no traceback, right errors, the newcomer's command line.
+"""Input hardening: bounded work, no traceback, right errors, the newcomer's command line.
 
 References are independent of the code under test: Fourier coefficients by
 numerical quadrature (scipy.integrate.quad) of the linearised equation's

@@ -1,4 +1,4 @@
-"""Limits of a/l by every method (issue 4 item 5): numbers against the source's formulas and the exact curves."""
+"""Limits of a/l by every method: numbers against the source's formulas and the exact curves."""
 
 import math
 import random

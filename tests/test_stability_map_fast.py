@@ -1,4 +1,4 @@
-"""The inverted pendulum's stable/unstable map (issue 12): equal to the pointwise
+"""The inverted pendulum's stable/unstable map: equal to the pointwise
 exact verdicts, right for every stable band in the grid's range, and right for
 the rod (I/(m l^2) = 4/3).
 
@@ -81,7 +81,7 @@ def test_map_equals_pointwise_exact_on_a_sample(rng):
 
 
 def test_rod_map_follows_the_inertia_ratio():
-    # item 4 of issue 12: the rod's limits are those of the Mathieu plane times
+    # the rod's limits are those of the Mathieu plane times
     # I/(m l^2)/2 (000 eq. 6); SciPy's a_0, b_1 give them independently
     inertia = 4.0 / 3.0
     rows = np.array([0.0, 0.05, 0.1, 0.2])

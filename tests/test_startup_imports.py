@@ -1,4 +1,4 @@
-"""``pendulab --help`` and usage errors import neither SymPy, SciPy, NumPy nor matplotlib (issue 12).
+"""``pendulab --help`` and usage errors import neither SymPy, SciPy, NumPy nor matplotlib.
 
 Not a timing test (the times are in benchmarks/bench_startup.py): a fresh
 interpreter imports pendulab.cli, builds the parser, runs the command line

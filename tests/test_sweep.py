@@ -1,4 +1,4 @@
-"""Sweeps (issue 9 items 7-10): criteria, chunks, executors, pruning, progress, CLI.
+"""Sweeps: criteria, chunks, executors, pruning, progress, CLI.
 
 References: trajectories whose statistics are known in closed form (no gravity
 and no drive: theta'' = 0, on which RK4 is exact), the physics of the

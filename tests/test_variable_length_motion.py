@@ -1,4 +1,4 @@
-"""The variable-length pendulum integrated (002_19b336b29bb1f03b.txt), issue 11 item 4.
+"""The variable-length pendulum integrated (002_19b336b29bb1f03b.txt).
 
 References, each independent of the code under test:
 

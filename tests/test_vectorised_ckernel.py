@@ -1,4 +1,4 @@
-"""The C kernel of the vectorised band Newton iterations (issue 12).
+"""The C kernel of the vectorised band Newton iterations.
 
 pendulab.analyses.floquet._vectorised runs the Newton loops of
 ``_band_eigen_chunk`` (theta0_of_exponent on arrays) and ``_band_nu_chunk``

@@ -1,5 +1,5 @@
 """The sorted, grouped evaluation of the vectorised exponent and inverse
-(issue 12: one sort by (band, octave of |q|), contiguous groups, the guesses
+(one sort by (band, octave of |q|), contiguous groups, the guesses
 for all points at once, the band count one column of edges at a time) gives
 the same bits as the code it replaced.
 

@@ -1,5 +1,5 @@
 """Points the double-precision routes of the vectorised exponent cannot
-resolve (issue 12 audit): bands thinner than the rounding of their edges at
+resolve (an audit): bands thinner than the rounding of their edges at
 large |theta1|, and traces that lose their digits to cancellation at
 theta0 << 0.  Before the checks in pendulab.analyses.floquet._vectorised the
 exponent there was wrong by O(1) (0j for 10.709j; a band value for a gap) and

@@ -1,4 +1,4 @@
-"""The source's perturbation series to any order, and the integer-order series (issue 3).
+"""The source's perturbation series to any order, and the integer-order series.
 
 Mathieu's equation in the source's form (000 eq. 7)::
 

@@ -1,4 +1,4 @@
-"""Limits of a/l for the inverted pendulum by every method, side by side (issue 4 item 5).
+"""Limits of a/l for the inverted pendulum by every method, side by side.
 
 For a body with I/(m l^2) = ``inertia_ratio`` and a drive with
 omega0/omega = ``ratio``, the inverted position is stable for

@@ -775,7 +775,7 @@ def sweep(spec, *, executor="auto", workers=None, dask=None, backend="auto", qui
 
 
 # ---------------------------------------------------------------------------
-# model only what the question needs (issue 9 item 7)
+# model only what the question needs
 # ---------------------------------------------------------------------------
 
 #: Largest estimated amplitude (rad) at which a Floquet-stable cell away from the

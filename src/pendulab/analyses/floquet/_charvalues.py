@@ -285,7 +285,7 @@ def _band_certified(X0, dps, what, scale=None):
 
 #: (family, theta0) -> double start, (family, theta0, w) -> proved ball of the band end
 #: in q (with its bits) or None, kept for the process: the rod and the point mass of a
-#: build meet the same theta0 = -4 (omega0/omega)^2 (issue 10 item 6).
+#: build meet the same theta0 = -4 (omega0/omega)^2.
 _ENDS = {}
 
 
@@ -367,7 +367,7 @@ def _band_at_two_precisions(band, dps, what):
 
 
 #: (theta0, dps) -> ends of the first band, kept for the process: the rod and the point mass
-#: of a build meet the same theta0 = -4 (omega0/omega)^2 (issue 10 item 6).
+#: of a build meet the same theta0 = -4 (omega0/omega)^2.
 _BANDS = {}
 
 
