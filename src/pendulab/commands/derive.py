@@ -95,11 +95,20 @@ def _run(args):
     if args.json:
         sys.stdout.write(canonical_json(doc))
         return 0
+    _print_text(doc)
+    return 0
+
+
+def _print_text(doc, indent=""):
+    """``doc`` as indented "key: value" lines; a [cosine, sine] pair of strings as
+    "cos: ..., sin: ..." (a Hill drive's Fourier coefficients), never a Python repr."""
     for key, value in doc.items():
         if isinstance(value, dict):
-            print(f"{key}:")
-            for k2, v2 in value.items():
-                print(f"  {k2}: {v2}")
+            print(f"{indent}{key}:")
+            _print_text(value, indent + "  ")
+        elif isinstance(value, (list, tuple)) and len(value) == 2 and key.isdigit():
+            print(f"{indent}{key}: cos: {value[0]}, sin: {value[1]}")
+        elif isinstance(value, (list, tuple)):
+            print(f"{indent}{key}: {', '.join(map(str, value))}")
         else:
-            print(f"{key}: {value}")
-    return 0
+            print(f"{indent}{key}: {value}")

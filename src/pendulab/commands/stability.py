@@ -54,5 +54,7 @@ def run(args):
         sys.stdout.write(canonical_json(record))
     else:
         for key in ("method", "body", "inertia_ratio", "ratio", "lower", "upper"):
+            if key == "body" and record[key] is None:  # --inertia-ratio: no named body
+                continue
             print(f"{key}: {_format(record[key]) if key in ('lower', 'upper') else record[key]}")
     return 0

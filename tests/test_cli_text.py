@@ -1,0 +1,25 @@
+"""The commands' text output reads as text: no Python reprs (None, dicts, lists) a user
+would have to decode."""
+
+from pendulab.cli import main
+
+
+def _run(capsys, *argv):
+    code = main(list(argv))
+    out = capsys.readouterr().out
+    return code, out
+
+
+def test_stability_with_an_inertia_ratio_prints_no_body_none(capsys):
+    code, out = _run(capsys, "stability", "--ratio", "0.1", "--inertia-ratio", "4/3")
+    assert code == 0 and "None" not in out and "inertia_ratio: 1.333" in out
+    code, out = _run(capsys, "stability", "--ratio", "0.1", "--body", "point")
+    assert code == 0 and "body: point" in out
+
+
+def test_a_hill_drives_fourier_coefficients_are_lines_not_a_dict(capsys):
+    code, out = _run(capsys, "derive", "kapitza", "--drive", "a*cos(omega*t) + b*cos(2*omega*t)")
+    assert code == 0
+    assert "{" not in out and "['" not in out, out
+    # the drive's second harmonic: 16 b l m / I in front of cos(4 tau) (tau = omega t/2)
+    assert "4: cos: 16*b*l*m/I, sin: 0" in out
