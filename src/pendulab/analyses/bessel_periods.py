@@ -42,7 +42,8 @@ class QuarterPeriods:
     indices); ``margin_after[k]`` = inward[k] - (outward swing after it),
     ``margin_before[k]`` = inward[k] - (outward swing before it), present
     where that swing exists; ``claim_holds`` is True when every margin is
-    certainly positive, False when one is certainly negative.
+    certainly positive, False when one is certainly negative, and None when
+    there is no margin (no outward swing beside an inward one).
     ``time_to_zero_length`` (shortening only) is j_2,m^2.
     """
 
@@ -140,7 +141,9 @@ def _compute(count, dps, direction, m, nmax, extra):
     out.inward, out.outward, out.margin_after, out.margin_before = texts
     out.inward_balls, out.outward_balls, out.after_balls, out.before_balls = ins, outs, after, before
     margins = after + before
-    if all(b > 0 for b in margins):
+    if not margins:  # no outward swing beside an inward one: nothing to compare
+        out.claim_holds = None
+    elif all(b > 0 for b in margins):
         out.claim_holds = True
     elif any(b < 0 for b in margins):
         out.claim_holds = False

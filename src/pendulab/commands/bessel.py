@@ -110,10 +110,14 @@ def run_quarter(args):
         return 0
     print(f"quarter periods, {q.direction} string from {rec['start']}, unit {rec['time_unit']}")
     for k in range(max(len(q.inward), len(q.outward))):
-        a = q.inward[k] if k < len(q.inward) else "-"
-        b = q.outward[k] if k < len(q.outward) else "-"
+        a = q.inward[k] if k < len(q.inward) else "(none)"
+        b = q.outward[k] if k < len(q.outward) else "(none)"
         print(f"{k}: inward {a}   outward {b}")
-    print(f"claim ({rec['claim']}): {'holds for every k shown' if q.claim_holds else 'does not hold: an outward swing outlasts an inward one'}")
+    verdict = {True: "holds for every k shown",
+               False: "does not hold: an outward swing outlasts an inward one",
+               None: "not tested: no outward swing beside an inward one among those shown "
+                     "(ask for a larger --count)"}[q.claim_holds]
+    print(f"claim ({rec['claim']}): {verdict}")
     if q.time_to_zero_length is not None:
         print(f"L reaches 0 at t = {q.time_to_zero_length} (z = 0)")
     return 0

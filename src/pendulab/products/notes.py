@@ -372,8 +372,10 @@ def _string(ctx, options):
                                               "tab:identities"),
                           claim_holds=q["claim_holds"], direction=q["direction"],
                           direction_pt=DIRECTION_PT.get(q["direction"], q["direction"]),
-                          margin_before=number(min(q["margin_before"], key=float)),
-                          margin_after=number(min(q["margin_after"], key=float)),
+                          margin_before=(number(min(q["margin_before"], key=float))
+                                         if q["margin_before"] else None),
+                          margin_after=(number(min(q["margin_after"], key=float))
+                                        if q["margin_after"] else None),
                           z_low=number(ident["z_range"][0], 3), z_high=number(ident["z_range"][1], 3),
                           shown=len(q["inward"]) + len(q["outward"]), source_pairs=pairs,
                           length=sp.latex(sub.get("system").length),
