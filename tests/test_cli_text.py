@@ -31,3 +31,11 @@ def test_one_shortening_quarter_period_does_not_claim_the_claim_holds(capsys):
     assert code == 0
     assert "outward (none)" in out and "outward -" not in out
     assert "not tested" in out and "holds for every k shown" not in out
+
+
+def test_a_sweep_names_only_the_symbols_the_user_wrote(capsys):
+    # b is the second harmonic's amplitude; l enters only through the groups (b/l)
+    code = main(["sweep", "--drive", "a*cos(omega*t)+b*cos(2*omega*t)", "--grid", "2"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert "leaves b without a value" in err[0] and " l " not in err[0].split("leaves")[1][:12]

@@ -153,6 +153,11 @@ def _param_columns(spec, fos):
     names = [s.name for s in fos.params]
     known = {"a_over_l", "w0_over_w"} | ({"inertia_ratio"} if spec.inertia_ratio is not None else set())
     extra = [n for n in names if n not in known]
+    if extra and spec.drive:
+        # name what the user wrote (b), not the symbols the groups bring in with it (l)
+        from pendulab.exprs import parse
+        written = {str(x) for x in parse(spec.drive).free_symbols}
+        extra = [n for n in extra if n in written] or extra
     if extra:
         raise InputError(f"the sweep sets a_over_l and w0_over_w"
                          f"{' and inertia_ratio' if spec.inertia_ratio is not None else ''}; "
