@@ -39,3 +39,16 @@ def test_a_sweep_names_only_the_symbols_the_user_wrote(capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1
     assert "leaves b without a value" in err[0] and " l " not in err[0].split("leaves")[1][:12]
+
+
+def test_stability_says_why_a_limit_is_missing_or_unresolved(capsys):
+    code, out = _run(capsys, "stability", "--ratio", "1000")
+    lower = float(out.split("lower: ")[1].split()[0])
+    upper = float(out.split("upper: ")[1].split()[0])
+    assert code == 0 and lower == upper and "narrower than double precision" in out
+    code, out = _run(capsys, "stability", "--ratio", "0.1", "--method", "eq19")
+    assert "upper: none" in out and "note: upper none: the averaging gives only a lower limit" in out
+    code, out = _run(capsys, "stability", "--ratio", "0.1", "--method", "series:40")
+    assert "upper: none" in out and "no fold before its pole" in out
+    code, out = _run(capsys, "stability", "--ratio", "0.1")
+    assert "note:" not in out  # two resolved limits need no word

@@ -50,6 +50,9 @@ def run(args):
     lower, upper = limits(ratio, inertia, args.method)
     record = {"lower": lower, "upper": upper, "method": args.method, "ratio": ratio,
               "body": body, "inertia_ratio": inertia}
+    note = _note(args.method, lower, upper)
+    if note:
+        record["note"] = note
     if args.json:
         sys.stdout.write(canonical_json(record))
     else:
@@ -57,4 +60,25 @@ def run(args):
             if key == "body" and record[key] is None:  # --inertia-ratio: no named body
                 continue
             print(f"{key}: {_format(record[key]) if key in ('lower', 'upper') else record[key]}")
+        if note:
+            print(f"note: {note}")
     return 0
+
+
+def _note(method, lower, upper):
+    """Why a limit is missing, or why two limits print as one number ("" when neither)."""
+    said = []
+    if lower is not None and upper is not None and lower == upper:
+        said.append("lower and upper agree to every digit of a double: the stable band is "
+                    "narrower than double precision resolves, so these are not two limits")
+    for name, value in (("lower", lower), ("upper", upper)):
+        if value is None:
+            if method.startswith("eq19"):
+                why = "the averaging gives only a lower limit"
+            elif method.startswith("series:"):
+                why = ("the truncated series has no fold before its pole at nu = 1 at this "
+                       "ratio (docs/series.md; integer-series:N reaches the upper limit)")
+            else:
+                why = "this method gives no such limit at this ratio"
+            said.append(f"{name} none: {why}")
+    return "; ".join(said)
