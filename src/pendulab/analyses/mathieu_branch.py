@@ -160,15 +160,7 @@ def _newton(rows, a, q, digits, iterations=60):
         a, q = a + da, q + dq
         if abs(dq) <= 1e-10 * abs(q) and abs(da) <= 1e-10 * max(1.0, abs(a)):
             break
-    a, q = mpmath.mpc(a), mpmath.mpc(q)
-    tol = mpmath.mpf(10) ** (-digits)
-    for _ in range(iterations):
-        da, dq, _ = _newton_step(rows, a, q)
-        a, q = a + da, q + dq
-        if abs(dq) <= tol * abs(q) and abs(da) <= tol * max(1, abs(a)):
-            return a, q
-    raise ConvergenceError(f"Newton's iteration for the branch point did not converge near q = "
-                           f"{mpmath.nstr(q, 8)}")
+    return _newton_mp(rows, mpmath.mpc(a), mpmath.mpc(q), digits, iterations)
 
 
 def _newton_mp(rows, a, q, digits, iterations=30):
