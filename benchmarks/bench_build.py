@@ -1,6 +1,6 @@
 """Time of the main job, one command:
 
-    python benchmarks/bench_build.py [--repeat N] [--jobs J] [--issue-job | --issue-units]
+    python benchmarks/bench_build.py [--repeat N] [--jobs J] [--reference-job | --reference-scale]
 
 Runs ``python -m pendulab build derivations/ --force --out <temporary>``
 on the committed scenes twice per round, in fresh interpreters:
@@ -25,30 +25,29 @@ pure-Python loop is timed between the rounds to show how fast the machine was.
 serial path as well.  ``--breakdown`` prints instead the CPU time of the imports and
 of every stage and product of each scene, computed one after another in one process.
 
-``--issue-job`` times the job issue 10 measured (14 s idle, 25 s loaded, when
-it asked for 3 s on a 2-core machine): the scenes as they were committed
-when it was filed (commit bd3f9c5: kapitza-rod with equations,
+``--reference-job`` times the job that set the main job's target: on a 2-core
+machine the committed scenes of commit bd3f9c5 (kapitza-rod with equations,
 series, floquet and stability, kapitza-point with equations and stability,
-variable-length with equations and quarter_periods), built by ours and by
-pendulab at bd3f9c5 in alternating rounds.  The same scene files, not quite
-the same work: bd3f9c5's quarter_periods also checked the cross-product
-identity at 160 points (about 0.5 s of CPU; now part of the bessel
-product's identities, which these scenes do not ask for), and its floquet
-product used Hill's determinant where ours proves its digits in arb balls;
-the files that differ are listed.  The committed scenes have gained
-products since (issues 9 and 11: the experiments scene with Figs. 2-5 and
-the motion, kernels and bessel products), which the default mode times:
-issue 10 asks for 3 s for the committed scenes, so that is the measure of
-its target.
+variable-length with equations and quarter_periods) took 14 s idle and 25 s
+loaded with pendulab at bd3f9c5, and the target is 3 s.  They are built by
+ours and by pendulab at bd3f9c5 in alternating rounds.  The same scene files,
+not quite the same work: bd3f9c5's quarter_periods also checked the
+cross-product identity at 160 points (about 0.5 s of CPU; now part of the
+bessel product's identities, which these scenes do not ask for), and its
+floquet product used Hill's determinant where ours proves its digits in arb
+balls; the files that differ are listed.  The committed scenes have gained
+products since (the experiments scene with Figs. 2-5, the motion, kernels,
+bessel and notes products), which the default mode times: the 3 s target is
+for the committed scenes, so that is the measure of it.
 
-``--issue-units`` puts the committed scenes on the issue's own scale.  The
-issue gives one time, 14 s idle for pendulab at bd3f9c5 on its scenes, so
-each round builds that job, the committed scenes with ours, and the
-committed scenes with every figure turned off (copies with ``figures =
+``--reference-scale`` puts the committed scenes on the scale of that
+measurement.  It gives one time, 14 s idle for pendulab at bd3f9c5 on its
+scenes, so each round builds that job, the committed scenes with ours, and
+the committed scenes with every figure turned off (copies with ``figures =
 false`` / ``figure = false`` wherever a product has that option), one after
 another; each of ours is then scaled by 14 s / bd3f9c5's time of the same
-round: the wall time the issue's idle machine would have shown.  The
-no-figure copies show how much of the 3 s the computations alone take.
+round: the wall time that idle machine would have shown.  The no-figure
+copies show how much of the 3 s the computations alone take.
 """
 
 import argparse
@@ -66,7 +65,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 #: The commit before the main-job work (the baseline the ratio is taken against).
 BASELINE = "730850c"
-#: The commit at which issue 10 was filed (its scenes and its code: the job it timed at 14 s).
+#: The commit whose scenes and code set the target (that job took 14 s on an idle machine).
 FILED = "bd3f9c5"
 
 
@@ -139,12 +138,12 @@ def filed_tree(mode):
         shutil.rmtree(tmp, ignore_errors=True)
 
 
-def issue_job(repeat, jobs=None):
-    """Time the job issue 10 timed: the scenes committed at FILED, built by ours and by FILED."""
-    with filed_tree("--issue-job") as (tmp, old_src):
+def reference_job(repeat, jobs=None):
+    """Time the reference job: the scenes committed at FILED, built by ours and by FILED."""
+    with filed_tree("--reference-job") as (tmp, old_src):
         scenes = tmp / "derivations"
         names = ", ".join(p.stem for p in sorted(scenes.glob("*.toml")))
-        print(f"the job issue 10 timed: the scenes committed at {FILED} ({names})")
+        print(f"the reference job: the scenes committed at {FILED} ({names})")
         print(f"load average before: {os.getloadavg()[0]:.2f} (2 cores shared: wall times are noisy)")
         run_build(ROOT / "src", tmp / "warm-ours", jobs, scenes)
         run_build(old_src, tmp / "warm-filed", scenes=scenes)
@@ -162,9 +161,9 @@ def issue_job(repeat, jobs=None):
         print(f"machine: the calibration loop took {min(loops):.2f}-{max(loops):.2f} s before and "
               "between the rounds (smaller is faster)")
         print(f"ours:     fastest {wall:6.2f} s wall, slowest {max(w for w, _ in ours):.2f} s; "
-              f"{cpu:6.2f} s CPU  (issue 10's target: wall <= 3 s)")
+              f"{cpu:6.2f} s CPU  (target: wall <= 3 s)")
         print(f"filed:    fastest {fwall:6.2f} s wall, {fcpu:6.2f} s CPU  (pendulab at {FILED}; "
-              "the issue: 14 s idle)")
+              "measured at 14 s idle)")
         print(f"ratio filed/ours: fastest/fastest wall {fwall / wall:.2f}x, CPU {fcpu / cpu:.2f}x; "
               f"round by round {min(ratios):.2f}-{max(ratios):.2f}x")
         differ, total = differing(tmp / "ours0", tmp / "filed0")
@@ -174,8 +173,8 @@ def issue_job(repeat, jobs=None):
               "identities), and its floquet product used Hill's determinant, not arb balls")
 
 
-#: The time issue 10 gave for its job (pendulab at FILED on FILED's scenes), on its idle machine.
-ISSUE_SECONDS = 14.0
+#: The time of the reference job (pendulab at FILED on FILED's scenes) on an idle machine.
+REFERENCE_SECONDS = 14.0
 
 
 def figure_free_scenes(into):
@@ -200,22 +199,22 @@ def figure_free_scenes(into):
                     nxt = re.search(r"^\[", table, re.M)  # the product's own table ends there
                     table = table[:nxt.start()] if nxt else table
                     if found is None or re.search(rf"^{key}\s*=", table, re.M):
-                        sys.exit(f"--issue-units: cannot turn off {name}.{key} in {path.name}")
+                        sys.exit(f"--reference-scale: cannot turn off {name}.{key} in {path.name}")
                     text = text[:found.end()] + f"{key} = false\n" + text[found.end():]
                     off.append(f"{path.stem}: {name}.{key}")
         (Path(into) / path.name).write_text(text, encoding="utf-8")
     return off
 
 
-def issue_units(repeat, jobs=None):
-    """The committed scenes, with and without figures, on the issue's scale (ISSUE_SECONDS
-    for FILED's job): each of ours times ISSUE_SECONDS / FILED's time in the same round."""
-    with filed_tree("--issue-units") as (tmp, old_src):
+def reference_scale(repeat, jobs=None):
+    """The committed scenes, with and without figures, on the reference job's scale (REFERENCE_SECONDS
+    for FILED's job): each of ours times REFERENCE_SECONDS / FILED's time in the same round."""
+    with filed_tree("--reference-scale") as (tmp, old_src):
         plain = tmp / "no-figures"
         plain.mkdir()
         off = figure_free_scenes(plain)
-        print(f"the issue's scale: pendulab at {FILED} on its scenes took {ISSUE_SECONDS:g} s on "
-              "the issue's idle machine; each round times it next to ours")
+        print(f"the reference scale: pendulab at {FILED} on its scenes took {REFERENCE_SECONDS:g} s on "
+              "an idle machine; each round times it next to ours")
         print(f"ours without figures: {', '.join(off)} set to false")
         print(f"load average before: {os.getloadavg()[0]:.2f} (2 cores shared: wall times are noisy)")
         builds = {"ours": (ROOT / "src", None, jobs), "no figures": (ROOT / "src", plain, jobs),
@@ -229,17 +228,17 @@ def issue_units(repeat, jobs=None):
                     for label, (src, scenes, j) in builds.items()}
             loops.append(calibration())
             for label in scaled:
-                scaled[label].append(wall[label] * ISSUE_SECONDS / wall["filed"])
+                scaled[label].append(wall[label] * REFERENCE_SECONDS / wall["filed"])
             print(f"round {k + 1}: ours {wall['ours']:5.2f} s, without figures "
                   f"{wall['no figures']:5.2f} s, pendulab at {FILED} {wall['filed']:5.2f} s "
-                  f"-> on the issue's scale {scaled['ours'][-1]:.2f} s and "
+                  f"-> on the reference scale {scaled['ours'][-1]:.2f} s and "
                   f"{scaled['no figures'][-1]:.2f} s; calibration loop {loops[-1]:.2f} s")
         print(f"machine: the calibration loop took {min(loops):.2f}-{max(loops):.2f} s before and "
               "between the rounds (smaller is faster)")
         for label, values in scaled.items():
-            print(f"on the issue's scale, {'ours' if label == 'ours' else 'ours without figures'}: "
+            print(f"on the reference scale, {'ours' if label == 'ours' else 'ours without figures'}: "
                   f"{min(values):.2f}-{max(values):.2f} s, median {statistics.median(values):.2f} s "
-                  "(issue 10's target: 3 s)")
+                  "(target: 3 s)")
 
 
 def breakdown():
@@ -284,32 +283,32 @@ def breakdown():
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeat", type=int, default=1,
-                    help="rounds, at least 1 (the fastest counts; --issue-units also gives the median)")
+                    help="rounds, at least 1 (the fastest counts; --reference-scale also gives the median)")
     ap.add_argument("--jobs", type=int, default=None, help="PENDULAB_JOBS for ours (the older code has none)")
     ap.add_argument("--serial", action="store_true",
                     help="also time ours with PENDULAB_JOBS=1 (the default mode only)")
     mode = ap.add_mutually_exclusive_group()
     mode.add_argument("--breakdown", action="store_true",
                       help="only print the CPU time of each scene's stages and products (serial)")
-    mode.add_argument("--issue-job", action="store_true",
-                      help=f"time the job issue 10 timed (the scenes committed at {FILED}) against "
+    mode.add_argument("--reference-job", action="store_true",
+                      help=f"time the reference job (the scenes committed at {FILED}) against "
                            f"pendulab at {FILED}")
-    mode.add_argument("--issue-units", action="store_true",
-                      help=f"the committed scenes, with and without figures, scaled to the issue's "
-                           f"{ISSUE_SECONDS:g} s for pendulab at {FILED} (timed in the same rounds)")
+    mode.add_argument("--reference-scale", action="store_true",
+                      help=f"the committed scenes, with and without figures, scaled to the reference job's "
+                           f"{REFERENCE_SECONDS:g} s for pendulab at {FILED} (timed in the same rounds)")
     args = ap.parse_args(argv)
     if args.repeat < 1:
         ap.error(f"--repeat must be at least 1, got {args.repeat}")
-    if args.serial and (args.issue_job or args.issue_units or args.breakdown):
+    if args.serial and (args.reference_job or args.reference_scale or args.breakdown):
         ap.error("--serial goes with the default mode only")
     if args.breakdown:
         breakdown()
         return
-    if args.issue_job:
-        issue_job(args.repeat, args.jobs)
+    if args.reference_job:
+        reference_job(args.repeat, args.jobs)
         return
-    if args.issue_units:
-        issue_units(args.repeat, args.jobs)
+    if args.reference_scale:
+        reference_scale(args.repeat, args.jobs)
         return
     tmp = Path(tempfile.mkdtemp(prefix="bench-build-"))
     try:
@@ -334,7 +333,7 @@ def main(argv=None):
               "between the rounds (smaller is faster)")
         wall, cpu = min(w for w, _ in ours), min(c for _, c in ours)
         print(f"ours:     {wall:6.2f} s wall, {cpu:6.2f} s CPU  (every committed scene; "
-              "issue 10's target: wall <= 3 s)")
+              "target: wall <= 3 s)")
         if serial:
             swall, scpu = min(w for w, _ in serial), min(c for _, c in serial)
             print(f"ours, PENDULAB_JOBS=1: {swall:6.2f} s wall, {scpu:6.2f} s CPU")
