@@ -38,6 +38,10 @@ NOT_NUMERIC = {
     ("latex eom", "--mass"): "an expression",
     ("latex stability", "--methods"): "method names; N of series:N has its own entries",
     ("latex quarter-periods", "--length"): "an expression",
+    ("animate kapitza", "--drive"): "an expression",
+    ("animate kapitza", "--out"): "a file name",
+    ("animate variable-length", "--length"): "an expression",
+    ("animate variable-length", "--out"): "a file name",
 }
 
 
@@ -121,6 +125,10 @@ BASE = {
     "latex stability": ["latex", "stability", "--points", "2", "--methods", "eq12"],
     "latex zeros": ["latex", "zeros", "--nu", "1", "--count", "1", "--dps", "5"],
     "latex quarter-periods": ["latex", "quarter-periods", "--count", "1", "--dps", "5"],
+    # refused before anything is drawn, so nothing is written to the file named
+    "animate kapitza": ["animate", "kapitza", "--periods", "1", "--out", "never-written.gif"],
+    "animate variable-length": ["animate", "variable-length", "--t-end", "1",
+                                "--out", "never-written.gif"],
 }
 
 
@@ -129,8 +137,8 @@ def _argv(command, option, value):
     if option in base:
         i = base.index(option)
         base[i:i + 2] = []
-    # the latex fragments have no other format than LaTeX
-    return base + [f"{option}={value}"] + ([] if command.startswith("latex ") else ["--json"])
+    plain = command.startswith(("latex ", "animate "))  # no other format than their own
+    return base + [f"{option}={value}"] + ([] if plain else ["--json"])
 
 
 def _beyond(name):

@@ -16,7 +16,8 @@ import sys
 
 from pendulab import __version__
 
-COMMANDS = ("derive", "build", "series", "floquet", "stability", "bessel", "sweep", "simulate", "latex")
+COMMANDS = ("derive", "build", "series", "floquet", "stability", "bessel", "sweep", "simulate", "latex",
+            "animate")
 
 
 def available_commands():

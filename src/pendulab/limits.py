@@ -167,7 +167,35 @@ LIMITS = {
     # ``pendulab simulate`` (--w0-over-w is stability.ratio)
     "simulate.a_over_l": (float, 0, MAX_MAGNITUDE, None, "pivot amplitude over l, a/l"),
     "simulate.every": (int, 1, 10**7, None, "print every K-th step"),
+    # ``pendulab animate`` and the product "animation" (the frames of all options together:
+    # at most ANIMATION_MAX_FRAMES)
+    "animation.a_over_l": (float, 0, 10, 0.1, "pivot amplitude over l, a/l"),
+    "animation.w0_over_w": (float, 0, 10, 0.02, "omega0/omega"),
+    "animation.theta_init": (float, -3.14159, 3.14159, 0.3, "theta(0) in rad (0: upright)"),
+    "animation.omega_init": (float, -100, 100, 0.0, "dtheta/dtau at tau = 0"),
+    "animation.periods": (int, 1, 400, 20, "drive periods shown"),
+    "animation.frames_per_period": (int, 4, 64, 16,
+                                    "frames per drive period (per small swing for the string)"),
+    "animation.L0": ("positive", 0, 1e6, 1.0, "the length's parameter L0 (m)"),
+    "animation.v0": ("positive", 0, 1e6, 0.02,
+                     "the rate v0 in L(t) (m/s); L0 - v0*t shortens the string"),
+    "animation.g": ("positive", 0, 1000, 9.81, "gravitational acceleration g (m/s^2)"),
+    "animation.theta_0": (float, -3.14159, 3.14159, 0.3,
+                          "initial angle theta(0) (rad), not 0; theta'(0) = 0"),
+    "animation.t_end": ("positive", 0, 1e6, 20.0, "the time shown (s), before L(t) reaches 0"),
 }
+
+#: Most frames of one animation (periods x frames_per_period, or the string's t_end in frames):
+#: about 80 s of film, 2-4 MB of GIF and 30-40 s of drawing.
+ANIMATION_MAX_FRAMES = 2000
+
+
+def animation_frames_problem(frames):
+    """The one-line problem of an animation of ``frames`` frames, or None."""
+    if frames > ANIMATION_MAX_FRAMES:
+        return (f"the animation would have {frames} frames; at most {ANIMATION_MAX_FRAMES} "
+                "(fewer periods, or fewer frames per period)")
+    return None
 
 
 def _show(value):

@@ -27,6 +27,7 @@ PRODUCTS = {
     "kernels": "pendulab.products.kernels",
     "experiments": "pendulab.products.experiments",
     "notes": "pendulab.products.notes",
+    "animation": "pendulab.products.animation",
 }
 
 

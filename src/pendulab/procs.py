@@ -57,6 +57,12 @@ def die_with_parent(parent_pid):
     return tuple(means)
 
 
+def parent_death_signal():
+    """For ``subprocess``'s ``preexec_fn``: the child (an external program, which can watch no
+    pid) is killed when the thread that started it ends (Linux; elsewhere nothing is armed)."""
+    _set_pdeathsig()
+
+
 def _set_pdeathsig():
     """Arm PR_SET_PDEATHSIG with SIGKILL; False where there is no such call (not Linux)
     or it is refused."""

@@ -277,6 +277,69 @@ def length_system(equations, values=None):
                             note=f"L(t) = {length}", values=nums)
 
 
+@dataclass(frozen=True)
+class Geometry:
+    """Where the parts of a pendulum are, as expressions in the system's time and THETA.
+
+    ``pivot`` and ``mass`` are (x, y) pairs with y pointing up: the pivot and
+    the centre of mass (the driven pivot, over l, in tau, with the groups of
+    :func:`pivot_system`) or the suspension point and the mass (the string,
+    in metres, in t).  ``params`` are the symbols left in them, sorted by name.
+    """
+
+    time: sp.Symbol
+    pivot: tuple
+    mass: tuple
+    params: tuple
+
+
+def pivot_geometry(equations, form):
+    """The driven pivot's :class:`Geometry`, read from the system's centre of mass and drive.
+
+    The coordinates are the ones the Lagrangian is built from (000, after
+    eq. 2), taken to tau = Omega t/2 and divided by l:
+
+    >>> from pendulab.equations import derive
+    >>> from pendulab.systems import DrivenPivot
+    >>> from pendulab.canonical import periodic_form
+    >>> eqs = derive(DrivenPivot(body="rod"))
+    >>> geo = pivot_geometry(eqs, periodic_form(eqs))
+    >>> geo.pivot, geo.mass
+    ((0, a_over_l*cos(2*tau)), (sin(theta), a_over_l*cos(2*tau) + cos(theta)))
+    """
+    system = equations.system
+    freq = form.frequency if form.frequency is not None else S.omega
+    sub = _dimensionless_groups(False)
+
+    def scaled(expr):
+        expr = sp.sympify(expr).xreplace({system.coordinate: THETA}).subs(S.t, 2 * S.tau / freq)
+        return sp.simplify(sp.expand(expr.subs(sub) / S.l))
+
+    pivot = (sp.Integer(0), scaled(system.drive))
+    mass = tuple(scaled(c) for c in system.centre_of_mass)
+    params = tuple(sorted(set().union(*(e.free_symbols for e in pivot + mass))
+                          - {S.tau, THETA}, key=lambda s: s.name))
+    return Geometry(S.tau, pivot, mass, params)
+
+
+def length_geometry(equations):
+    """The string's :class:`Geometry` (002, "posição", y turned to point up), with L(t) put in.
+
+    >>> from pendulab.equations import derive
+    >>> from pendulab.systems import VariableLength
+    >>> length_geometry(derive(VariableLength())).mass
+    ((L0 + t*v0)*sin(theta), -(L0 + t*v0)*cos(theta))
+    """
+    system = equations.system
+    x, y = system.position
+    mass = tuple(sp.expand(c.subs(S.L(S.t), system.length).xreplace({system.coordinate: THETA}))
+                 for c in (x, -y))
+    mass = tuple(sp.factor_terms(c) for c in mass)
+    params = tuple(sorted(set().union(*(e.free_symbols for e in mass)) - {S.t, THETA},
+                          key=lambda s: s.name))
+    return Geometry(S.t, (sp.Integer(0), sp.Integer(0)), mass, params)
+
+
 def first_order(ctx, values=None, groups=True):
     """The first-order system of a scene's pipeline context (reads its stages)."""
     if ctx.scene.system == "kapitza":

@@ -111,6 +111,11 @@ def use_stages(spec, equations, form):
     _STAGES[spec] = (equations, form)
 
 
+def stages(spec):
+    """(equations, canonical form) of the system ``spec``, derived once per process."""
+    return _stages(spec)
+
+
 def _stages(spec):
     if spec not in _STAGES:
         _STAGES[spec] = _derive(spec)
