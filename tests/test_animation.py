@@ -12,7 +12,9 @@ threshold by a factor sqrt(4/3) only, 000 eq. 12).
 
 import math
 import os
+import shutil
 import stat
+import subprocess
 
 import numpy as np
 import pytest
@@ -178,6 +180,22 @@ def test_mp4_goes_through_ffmpeg(tmp_path, capsys, monkeypatch):
                         "--out", str(out), "--quiet")
     assert code == 0, err
     assert out.stat().st_size == 5 * A.PIXELS * A.PIXELS * 3  # five RGB frames
+
+
+@pytest.mark.skipif(shutil.which("ffmpeg") is None,
+                    reason="no ffmpeg on this machine: the stand-in above tests the pipe")
+def test_a_real_ffmpeg_writes_an_mp4_with_every_frame(tmp_path, capsys):
+    # the frame count and size are read back by ffprobe, not by pendulab
+    out = tmp_path / "k.mp4"
+    code, _, err = _run(capsys, "kapitza", "--periods", "2", "--frames-per-period", "6",
+                        "--out", str(out), "--quiet")
+    assert code == 0, err
+    probe = subprocess.run(["ffprobe", "-v", "error", "-select_streams", "v:0", "-count_frames",
+                            "-show_entries", "stream=nb_read_frames,width,height,r_frame_rate",
+                            "-of", "default=noprint_wrappers=1", str(out)],
+                           capture_output=True, text=True, check=True).stdout.split()
+    assert sorted(probe) == sorted([f"width={A.PIXELS}", f"height={A.PIXELS}",
+                                    f"r_frame_rate={A.FPS}/1", "nb_read_frames=13"])
 
 
 def test_without_matplotlib_the_command_says_so(tmp_path, capsys, monkeypatch):
