@@ -29,6 +29,7 @@ NOT_NUMERIC = {
     ("series", "--kind"): "a kind name (nu, a0, b1, ...)",
     ("stability", "--method"): "a method name; N of series:N has its own entries",
     ("sweep", "--drive"): "an expression",
+    ("simulate", "--drive"): "an expression",
     ("sweep", "--criterion"): "a criterion name",
     ("sweep", "--dask"): "a scheduler address",
     ("latex series", "--kind"): "a kind name (nu, a0, b1, ...)",

@@ -5,6 +5,7 @@ import argparse
 
 def add_parser(sub):
     from pendulab.commands.sweep import accept_negative_numbers, body_options
+    from pendulab.commands.sweep import drive_option
     from pendulab.limits import argument
     p = sub.add_parser(
         "animate", help="the pendulum animated, written as GIF or MP4",
@@ -26,10 +27,7 @@ def add_parser(sub):
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     accept_negative_numbers(k)
     body_options(k)
-    k.add_argument("--drive", metavar="EXPR",
-                   help="pivot displacement y0(t), periodic in t, with amplitude a and "
-                        "frequency omega (e.g. 'a*cos(omega*t) + a*cos(2*omega*t)'; default: "
-                        "the source's a*cos(omega*t))")
+    drive_option(k)
     argument(k, "--a-over-l", "animation.a_over_l", default="0.1", metavar="A")
     argument(k, "--w0-over-w", "animation.w0_over_w", default="0.02", metavar="W",
              text="omega0/omega")
@@ -134,16 +132,10 @@ def _progress(total, quiet):
 
 
 def _kapitza(args, problems, fpp):
-    from dataclasses import replace
-
     from pendulab import limits
-    from pendulab.commands.sweep import system_spec
-    from pendulab.exprs import parse
+    from pendulab.commands.sweep import system_spec, with_drive
 
-    system = system_spec(args, problems)
-    if args.drive is not None and system is not None:
-        if problems.call(parse, args.drive, prefix="--drive: ") is not None:
-            system = replace(system, drive=args.drive)
+    system = with_drive(args, system_spec(args, problems), problems)
     a = problems.parse("animation.a_over_l", args.a_over_l, "--a-over-l")
     w = problems.parse("animation.w0_over_w", args.w0_over_w, "--w0-over-w")
     th = problems.parse("animation.theta_init", args.theta_init, "--theta-init")

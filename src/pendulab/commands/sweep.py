@@ -34,6 +34,26 @@ def system_spec(args, problems):
     return SystemSpec(args.body or "rod")
 
 
+def drive_option(p, note=""):
+    """--drive EXPR, shared by ``sweep``, ``simulate`` and ``animate kapitza``."""
+    p.add_argument("--drive", metavar="EXPR",
+                   help="pivot displacement y0(t), periodic in t, with amplitude a and "
+                        "frequency omega (e.g. 'a*cos(omega*t) + a*cos(2*omega*t)'; default: "
+                        "the source's a*cos(omega*t))" + note)
+
+
+def with_drive(args, system, problems):
+    """``system`` with the drive of --drive, parsed once (a refused drive is recorded in
+    ``problems`` and leaves ``system`` as it was)."""
+    if getattr(args, "drive", None) is not None and system is not None:
+        from dataclasses import replace
+
+        from pendulab.exprs import parse
+        if problems.call(parse, args.drive, prefix="--drive: ") is not None:
+            return replace(system, drive=args.drive)
+    return system
+
+
 def backend_estimate():
     """"c" when a C compiler is found (the "auto" backend then builds the C kernel), else "numpy"."""
     from pendulab.numerics.ckernel import compiler_command
@@ -56,10 +76,7 @@ def add_parser(sub):
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     accept_negative_numbers(p)
     body_options(p)
-    p.add_argument("--drive", metavar="EXPR",
-                   help="pivot displacement y0(t), periodic in t (e.g. 'a*cos(omega*t) + "
-                        "a*cos(2*omega*t)'; default: the source's a*cos(omega*t)); a non-Mathieu "
-                        "drive takes the floquet verdict from the monodromy matrix")
+    drive_option(p, "; a non-Mathieu drive takes the floquet verdict from the monodromy matrix")
     argument(p, "--theta-init", "sweep.theta_init", default="0.06", metavar="X")
     argument(p, "--omega-init", "sweep.omega_init", default="0.01", metavar="Y")
     argument(p, "--grid", "experiments.grid", default="10", metavar="N",
@@ -91,12 +108,7 @@ def run(args):
 
     problems = limits.Problems()
     system = system_spec(args, problems)
-    if getattr(args, "drive", None) is not None and system is not None:
-        from dataclasses import replace
-
-        from pendulab.exprs import parse
-        if problems.call(parse, args.drive, prefix="--drive: ") is not None:
-            system = replace(system, drive=args.drive)
+    system = with_drive(args, system, problems)
     th = problems.parse("sweep.theta_init", args.theta_init, "--theta-init")
     om = problems.parse("sweep.omega_init", args.omega_init, "--omega-init")
     grid = problems.parse("experiments.grid", args.grid, "--grid")
