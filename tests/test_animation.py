@@ -220,14 +220,63 @@ def test_the_scene_product_writes_the_commands_file(tmp_path, capsys):
     capsys.readouterr()
 
 
-def test_the_product_refuses_too_many_frames_and_a_string_scene(tmp_path, capsys):
+def test_the_product_refuses_too_many_frames_and_another_systems_options(tmp_path, capsys):
     bad = tmp_path / "bad.toml"
     bad.write_text('name = "bad"\nsystem = "kapitza"\n'
                    "[products.animation]\nperiods = 400\nframes_per_period = 64\n")
     assert main(["build", str(bad), "--out", str(tmp_path / "out")]) == 2
     assert "at most 2000" in capsys.readouterr().err
+    # each system takes its own options: the string's t_end means nothing to the pivot
+    mixed = tmp_path / "mixed.toml"
+    mixed.write_text('name = "mixed"\nsystem = "kapitza"\n[products.animation]\nt_end = 5\n')
+    assert main(["build", str(mixed), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "products.animation.t_end: unknown option for a kapitza scene" in err
     string = tmp_path / "string.toml"
-    string.write_text('name = "string"\nsystem = "variable-length"\n[products.animation]\n')
+    string.write_text('name = "string"\nsystem = "variable-length"\n[products.animation]\n'
+                      "a_over_l = 0.2\ntheta_0 = 0\n")
     assert main(["build", str(string), "--out", str(tmp_path / "out")]) == 2
-    assert "not available for system 'variable-length'" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "a_over_l: unknown option for a variable-length scene" in err
+    assert len(err.strip().splitlines()) == 1
     assert not (tmp_path / "out").exists()
+
+
+STRING_SCENE = ('name = "vl"\nsystem = "variable-length"\n[parameters]\nlength = "{length}"\n'
+                "[products.animation]\nL0 = 1.0\nv0 = 0.02\ntheta_0 = 0.3\nt_end = 6\n"
+                "frames_per_period = 8\n{extra}")
+
+
+def test_a_string_scene_gets_the_commands_film_of_its_own_length(tmp_path, capsys):
+    from PIL import Image
+    scene = tmp_path / "vl.toml"
+    scene.write_text(STRING_SCENE.format(length="L0 - v0*t", extra=""))
+    assert main(["build", str(scene), "--out", str(tmp_path / "out")]) == 0
+    built = tmp_path / "out" / "vl" / "animation.gif"
+    assert main(["animate", "variable-length", "--length", "L0 - v0*t", "--L0", "1", "--v0",
+                 "0.02", "--theta-0", "0.3", "--t-end", "6", "--frames-per-period", "8",
+                 "--out", str(tmp_path / "cmd.gif"), "--quiet"]) == 0
+    assert built.read_bytes() == (tmp_path / "cmd.gif").read_bytes()
+    # frames: one every (2 pi sqrt(L0/g))/8 s from 0 to t_end (g = 9.81 by default)
+    period = 2 * math.pi * math.sqrt(1.0 / 9.81)
+    assert Image.open(built).n_frames == math.floor(6 / period * 8) + 1
+    # a growing string is another film
+    scene.write_text(STRING_SCENE.format(length="L0 + v0*t", extra=""))
+    assert main(["build", str(scene), "--out", str(tmp_path / "grow")]) == 0
+    assert (tmp_path / "grow" / "vl" / "animation.gif").read_bytes() != built.read_bytes()
+    capsys.readouterr()
+
+
+def test_a_string_scene_names_the_numbers_its_length_lacks(tmp_path, capsys):
+    scene = tmp_path / "vl.toml"
+    scene.write_text(STRING_SCENE.format(length="L0*(1 + eps*cos(Omega*t))", extra=""))
+    assert main(["build", str(scene), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "products.animation: L(t) = " in err and "needs numbers for Omega, eps" in err
+    assert not (tmp_path / "out").exists()
+    # given in values, the periodic length is animated
+    scene.write_text(STRING_SCENE.format(length="L0*(1 + eps*cos(Omega*t))",
+                                         extra="values = {eps = 0.1, Omega = 6.0}\n"))
+    assert main(["build", str(scene), "--out", str(tmp_path / "out")]) == 0
+    assert (tmp_path / "out" / "vl" / "animation.gif").stat().st_size > 0
+    capsys.readouterr()

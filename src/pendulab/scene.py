@@ -161,18 +161,24 @@ def _option_value(kind, value):
     raise TypeError(f"unsupported option type {kind!r}")
 
 
-def validate_options(module, given, where, problems):
+def validate_options(module, given, where, problems, system=None):
     """Fill defaults, check types and ranges; options with default ``None`` are required.
 
     The range of an option ``key`` of product ``name`` is the entry
-    ``name.key`` of :data:`pendulab.limits.LIMITS`, when there is one.
+    ``name.key`` of :data:`pendulab.limits.LIMITS`, when there is one.  A product whose
+    systems take different options has ``options_for(system)``; the others have ``OPTIONS``.
     """
     from pendulab import limits
     spec = getattr(module, "OPTIONS", {})
+    per_system = getattr(module, "options_for", None)
+    if per_system is not None and system is not None:
+        spec = per_system(system)
     product = module.__name__.rsplit(".", 1)[-1]
     options = {}
     for key in sorted(set(given) - set(spec)):
-        problems.add(f"{where}.{key}", f"unknown option (known: {', '.join(sorted(spec)) or 'none'})")
+        other = " for a " + system + " scene" if key in getattr(module, "OPTIONS", {}) else ""
+        problems.add(f"{where}.{key}",
+                     f"unknown option{other} (known: {', '.join(sorted(spec)) or 'none'})")
     for key, (kind, default, _help) in sorted(spec.items()):
         if key in given:
             try:
@@ -298,7 +304,7 @@ def parse_scene(data, path="<scene>"):
             if system in SYSTEMS and system not in systems:
                 problems.add(where, f"not available for system {system!r}")
                 continue
-            chosen[pname] = validate_options(module, given, where, problems)
+            chosen[pname] = validate_options(module, given, where, problems, system)
     if (built is not None and system == "variable-length" and "quarter_periods" in chosen
             and not built.is_linear_length):
         # L0 + v0 t reaching zero is the shortening string, whose quarter periods

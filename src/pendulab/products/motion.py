@@ -420,6 +420,27 @@ def figure_theta(doc, keep):
             plt.close(fig)
 
 
+def _laws(amp, ls, exponents, points=50):
+    """For each exponent q: c L^q on ``points`` lengths spaced geometrically over ``ls``, with c
+    the geometric-mean fit to the amplitudes ``amp``; the lengths; and amp/(c L^q) - 1 for the
+    last q.  Computed in mpmath at 30 digits and rounded once, so the same on every processor."""
+    import mpmath
+    import numpy as np
+    with mpmath.workdps(30):
+        la = [mpmath.log(mpmath.mpf(float(a))) for a in amp]
+        ll = [mpmath.log(mpmath.mpf(float(x))) for x in ls]
+        lo, hi = min(ll), max(ll)
+        lg = [lo + (hi - lo) * k / (points - 1) for k in range(points)]
+        curves, c = [], None
+        for q in exponents:
+            q = mpmath.mpf(q)
+            c = mpmath.fsum(a - q * x for a, x in zip(la, ll)) / len(la)
+            curves.append(np.array([float(mpmath.exp(c + q * x)) for x in lg]))
+        residual = np.array([float(mpmath.expm1(a - c - q * x)) for a, x in zip(la, ll)])
+        grid = np.array([float(mpmath.exp(x)) for x in lg])
+    return curves, grid, residual
+
+
 @collector_paused
 def figure_envelope(doc, keep, length):
     """|theta| at the turning points against L (log-log), fitted and derived power laws."""
@@ -430,22 +451,23 @@ def figure_envelope(doc, keep, length):
     tt, amp = vm.turning_points(keep["lin"])
     lfun, _ = vm.length_function(length, keep["values"])
     ls = np.array([lfun(t) for t in tt])
-    slope = keep["lin_fit"][0]
+    # the slope as motion.json gives it (7 digits), and every curve drawn from it in mpmath:
+    # NumPy's vectorised log, exp and power differ in the last bits between processors, and
+    # the residual panel magnifies those bits into the PDF's coordinates
+    slope = _g(keep["lin_fit"][0], 7)
     q = float(keep["exponent"])
+    power_law, grid, residual = _laws(amp, ls, (slope, q))
     with matplotlib.rc_context(_RC):
         fig, (ax, ax2) = plt.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1]})
         try:
             power = f"L^({_unicode(keep['exponent'])})"
             ax.loglog(ls, amp, "o", ms=3, mfc="none", color="C0",
                       label="|θ| at the turning points (θ′ = 0), linear")
-            c = np.exp(np.mean(np.log(amp) - slope * np.log(ls)))
-            grid = np.geomspace(ls.min(), ls.max(), 50)
-            ax.loglog(grid, c * grid**slope, "-", color="C3", lw=1.0,
+            ax.loglog(grid, power_law[0], "-", color="C3", lw=1.0,
                       label="least-squares fit: L^(" + f"{slope:.6f})".replace("-", "\u2212"))
-            c2 = np.exp(np.mean(np.log(amp) - q * np.log(ls)))
-            ax.loglog(grid, c2 * grid**q, "--", color="k", lw=0.8,
+            ax.loglog(grid, power_law[1], "--", color="k", lw=0.8,
                       label=f"E/ω = const: {power}")
-            ax2.semilogx(ls, amp / (c2 * ls**q) - 1, ".-", color="C0", ms=3, lw=0.6)
+            ax2.semilogx(ls, residual, ".-", color="C0", ms=3, lw=0.6)
             ax2.ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
             ax2.set_ylabel(f"|θ|/(c {power}) − 1")
             for axis in (ax, ax2):
