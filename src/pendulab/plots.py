@@ -91,7 +91,9 @@ def draw_limits(ax, w, lower, upper, label, color="C3", styles=("-", "-"), label
     none.  ``label`` goes on the lower curve alone, or ``labels`` = (lower's, upper's) tells
     the two apart; ``styles`` are their line styles."""
     lo_label, up_label = labels if labels is not None else (label, None)
-    for values, style, text in ((lower, styles[0], lo_label), (upper, styles[1], up_label)):
+    colors = (color, color) if isinstance(color, str) else color
+    for values, style, text, color in ((lower, styles[0], lo_label, colors[0]),
+                                       (upper, styles[1], up_label, colors[1])):
         if text is None:
             ax.plot(values, w, style, color=color, lw=lw)
         else:
@@ -148,10 +150,10 @@ def log_ticks(ax):
 # --plot FILE of the commands
 # ---------------------------------------------------------------------------
 
-def plot_option(p):
-    """--plot FILE on the parser ``p`` of a command."""
+def plot_option(p, what):
+    """--plot FILE on the parser ``p`` of a command; ``what`` says what the figure shows."""
     p.add_argument("--plot", metavar="FILE",
-                   help="also draw the result into FILE, PNG, PDF or SVG by its extension "
+                   help=f"also draw {what} into FILE: PNG, PDF or SVG by its extension "
                         "(needs matplotlib, the 'figures' extra)")
 
 
@@ -219,21 +221,22 @@ def _margins(fig, **inches):
     margins(fig, **inches)
 
 
-def sweep_figure(a, w, stable, criterion, count, limits, region, title):
+def sweep_figure(a, w, stable, criterion, count, limits, region, title, run=""):
     """The map of ``pendulab sweep``: one panel as the experiments product draws each of its
-    criteria (:func:`draw_map_panel`), the count in its title."""
+    criteria (:func:`draw_map_panel`), the count (and ``run``, what was integrated) in its
+    title, ``title`` above it (that of the product's maps)."""
     import numpy as np
     with _rc():
-        fig, axes = new_figure(4.6, 4.5)
+        fig, axes = new_figure(5.4, 5.3)
         ax = axes[0][0]
         a, w = np.asarray(a, dtype=float), np.asarray(w, dtype=float)
         draw_map_panel(ax, a, w, stable, limits, region, cell_size(len(a)))
-        ax.set_title(y=1.0, label=f"{LABELS[criterion]}: {count} of {stable.size} stable")
+        ax.set_title(y=1.0, label=f"{LABELS[criterion]}: {count} of {stable.size} stable{run}")
         ax.set_xlabel(TEXT["a/l"])
         ax.set_ylabel(TEXT["w0/w"])
         ax.legend(loc="upper left", frameon=False)
         fig.suptitle(title)
-        _margins(fig, left=0.62, right=0.14, bottom=0.48, top=0.75)
+        _margins(fig, left=0.62, right=0.25, bottom=0.48, top=0.75)
     return fig
 
 
@@ -258,6 +261,10 @@ def simulate_figure(tau, theta, pivot_tau, pivot, error=None, title=""):
             draw_error(axe, tau, np.abs(np.asarray(error, dtype=float)), "-", "C3",
                        "|θ(RK4) − θ(DOP853)|")
             axe.set_ylabel("|RK4 − DOP853|")
+            positive = np.abs(np.asarray(error, dtype=float))
+            positive = positive[positive > 0]
+            if positive.size:  # not down to draw_error's 1e-18 where the two agree (at tau = 0)
+                axe.set_ylim(float(positive.min()) / 3, float(positive.max()) * 3)
             log_ticks(axe)
             low = axe
         low.set_xlabel(TEXT["tau"] + " = ωt/2")
@@ -278,19 +285,22 @@ def stability_figure(w, lower, upper, ratio, at, method_label, title):
     w = np.asarray(w, dtype=float)
     finite = np.concatenate([lo[np.isfinite(lo)], up[np.isfinite(up)]])
     right = 1.08 * float(finite.max()) if finite.size else 1.0
+    no_upper = not np.isfinite(up).any()
     with _rc():
         fig, axes = new_figure(5.4, 4.2)
         ax = axes[0][0]
-        band = np.isfinite(lo) & (np.isfinite(up) | np.isnan(up))
-        edge = np.where(np.isfinite(up), up, right)
+        band = np.isfinite(lo)
+        edge = np.where(np.isfinite(up), up, right)  # no upper limit: stable up to the edge
         ax.fill_betweenx(w, lo, edge, where=band & (edge > lo), color="0.85", lw=0,
-                         label="stable (lower < a/l < upper)")
-        draw_limits(ax, w, lo, up, None, color="C3", styles=("-", "--"),
-                    labels=(f"lower, {method_label}", f"upper, {method_label}"), lw=1.2)
+                         label="stable: a/l > lower (no upper limit by this method)" if no_upper
+                         else "stable: lower < a/l < upper")
+        name = method_name(method_label)
+        draw_limits(ax, w, lo, up, None, color=("C3", "C0"), styles=("-", "--"),
+                    labels=(f"lower, {name}", None if no_upper else f"upper, {name}"), lw=1.2)
         ax.axhline(ratio, color="0.4", lw=0.6, ls=":")
-        for v, marker, side in zip(at, ("o", "s"), ("lower", "upper")):
+        for v, marker, side, colour in zip(at, ("o", "s"), ("lower", "upper"), ("C3", "C0")):
             if v is not None and math.isfinite(v):
-                ax.plot([v], [ratio], marker, color="C3", mfc="white", ms=5, ls="none",
+                ax.plot([v], [ratio], marker, color=colour, mfc="white", ms=5, ls="none",
                         label=f"{side} = {v:.6g} at ω₀/ω = {ratio:g}")
         ax.set_xlim(0, right)
         ax.set_ylim(float(w[0]), float(w[-1]))
@@ -300,6 +310,18 @@ def stability_figure(w, lower, upper, ratio, at, method_label, title):
         ax.legend(loc="best", frameon=True, framealpha=0.9, edgecolor="none")
         _margins(fig, left=0.62, right=0.14, bottom=0.48, top=0.3)
     return fig
+
+
+def method_name(method):
+    """A stability method's name in a legend: "exact (Floquet)", "eq. 28", "series, order 8"."""
+    names = {"exact": "exact (Floquet)", "eq12": "eq. 12", "eq19": "eq. 19",
+             "eq19-corrected": "eq. 19 corrected", "eq28": "eq. 28"}
+    kind, _, order = method.partition(":")
+    if kind == "series":
+        return f"series, order {order}"
+    if kind == "integer-series":
+        return f"a₀, b₁ series, order {order}"
+    return names.get(method, method)
 
 
 def mcmahon_beta(nu, k):

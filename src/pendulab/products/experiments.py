@@ -161,19 +161,25 @@ def _fine(ctx, spec, mathieu, w):
     made once per process and scene: for Mathieu's equation the eq. 28 curves on CURVE points
     and the Floquet region on FINE x FINE points; for a Hill drive the Floquet (monodromy)
     region on the map's own grid ``w``."""
-    from pendulab.numerics import experiments as E
     key = "experiments:fine"
     if key not in ctx.memo:
-        if mathieu:
-            fine = E.S.linspace_grid(FINE)
-            w21 = E.S.linspace_grid(CURVE)
-            ctx.memo[key] = {"w0_over_w": w21, "curves": E.limit_curves(spec, w21, ("eq28",)),
-                             "region_values": fine, "region": E.floquet_region(spec, fine)}
-        else:
-            ctx.memo[key] = {"w0_over_w": w, "curves": {}, "region_values": w,
-                             "region": E.floquet_region(spec, w)}
-        ctx.memo[key] = (ctx.memo[key], region_paths(ctx.memo[key]))
+        ctx.memo[key] = map_limits(spec, mathieu, w)
     return ctx.memo[key]
+
+
+def map_limits(spec, mathieu, w):
+    """(limits, region paths) that a map figure draws under its cells (see :func:`_fine`;
+    ``pendulab sweep --plot`` draws the same)."""
+    from pendulab.numerics import experiments as E
+    if mathieu:
+        fine = E.S.linspace_grid(FINE)
+        w21 = E.S.linspace_grid(CURVE)
+        limits = {"w0_over_w": w21, "curves": E.limit_curves(spec, w21, ("eq28",)),
+                  "region_values": fine, "region": E.floquet_region(spec, fine)}
+    else:
+        limits = {"w0_over_w": w, "curves": {}, "region_values": w,
+                  "region": E.floquet_region(spec, w)}
+    return limits, region_paths(limits)
 
 
 def produce_part(ctx, options, part):
@@ -492,9 +498,16 @@ def map_title(name, m, fine, L=TEXT):
     """The suptitle of map ``name``'s figure."""
     from pendulab.numerics.experiments import INITIAL
     th, om = INITIAL[name]
+    return initial_title(th, om, len(m["a_over_l"]), fine, L)
+
+
+def initial_title(th, om, n, fine, L=TEXT, extra=""):
+    """The suptitle of a map of n x n pairs from theta(0) = th, dtheta/dtau(0) = om (``extra``
+    after the pairs)."""
     # two lines: on one the suptitle is wider than the figure (clipped at both edges)
-    pairs = f"${len(m['a_over_l'])}^2$" if L["math"] else f"{len(m['a_over_l'])}²"
-    return (f"{L['theta(0)']} = {_number(th, 'g', L)}, {L['dtheta(0)']} = {_number(om, 'g', L)}, {pairs} pairs\n"
+    pairs = f"${n}^2$" if L["math"] else f"{n}²"
+    return (f"{L['theta(0)']} = {_number(th, 'g', L)}, {L['dtheta(0)']} = {_number(om, 'g', L)}, "
+            f"{pairs} pairs{extra}\n"
             + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if fine["curves"]
                else "shaded: Floquet-stable (monodromy); dashed: its edge"))
 
