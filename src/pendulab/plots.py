@@ -352,59 +352,66 @@ def zeros_figure(nu, zeros, title):
     """The zeros j_nu,k against k over McMahon's beta_k (top), and j_nu,k - beta_k against k
     with McMahon's correction, which tends to 0 (bottom; DLMF 10.21.19)."""
     import numpy as np
+    from matplotlib.ticker import MaxNLocator
     k = np.arange(1, len(zeros) + 1)
     j = np.asarray(zeros, dtype=float)
     fine = np.linspace(1, max(len(zeros), 2), 400)
-    with _rc():
+    with _rc(), _math():
         fig, axes = new_figure(6.0, 5.2, 2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 2]})
         ax, ax2 = axes[0][0], axes[1][0]
         ax.plot(fine, mcmahon_beta(nu, fine), "-", color="C0", lw=1.0,
-                label="β = (k + ν/2 − 1/4)π (McMahon, leading term)")
-        ax.plot(k, j, "o", color="k", mfc="none", ms=4, ls="none", label="j_ν,k (certified)")
-        ax.set_ylabel("j_ν,k")
+                label=r"$\beta_k = (k + \nu/2 - 1/4)\,\pi$ (McMahon's leading term)")
+        ax.plot(k, j, "o", color="k", mfc="none", ms=4, ls="none", label=r"$j_{\nu,k}$ (certified)")
+        ax.set_ylabel(r"$j_{\nu,k}$")
         ax.set_title(y=1.0, label=title)
         ax.legend(loc="upper left", frameon=False)
         diff = j - mcmahon_beta(nu, k)
         corr = mcmahon_correction(nu, fine, MCMAHON_TERMS)
-        ax2.axhline(0.0, color="0.5", lw=0.6, ls=":", label="limit 0 as k → ∞")
+        ax2.axhline(0.0, color="0.5", lw=0.6, ls=":", label=r"limit 0 as $k \to \infty$")
         ax2.plot(fine, corr, "-", color="C3", lw=1.0,
                  label=f"McMahon, {MCMAHON_TERMS} terms (DLMF 10.21.19)")
-        ax2.plot(k, diff, "o", color="k", mfc="none", ms=4, ls="none", label="j_ν,k − β")
+        ax2.plot(k, diff, "o", color="k", mfc="none", ms=4, ls="none", label=r"$j_{\nu,k} - \beta_k$")
         span = [float(diff.min()), float(diff.max()), 0.0]
         pad = 0.1 * (max(span) - min(span) or 1.0)
         ax2.set_ylim(min(span) - pad, max(span) + pad)
-        ax2.set_ylabel("j_ν,k − β")
-        ax2.set_xlabel("k")
-        ax2.legend(loc="lower right", frameon=False)
+        ax2.set_ylabel(r"$j_{\nu,k} - \beta_k$")
+        ax2.set_xlabel(r"$k$")
+        ax2.legend(loc="lower right" if span[0] < 0 else "upper right", frameon=False)
         ax.set_xlim(0.5, len(zeros) + 0.5)
-        from matplotlib.ticker import MaxNLocator
         ax2.xaxis.set_major_locator(MaxNLocator(integer=True))
-        _margins(fig, left=0.75, right=0.15, bottom=0.45, top=0.3, hspace=0.1)
+        _margins(fig, left=0.8, right=0.15, bottom=0.45, top=0.3, hspace=0.1)
     return fig
 
 
 def margins_figure(after, before, limit_after, limit_before, title):
-    """The margins of 002's claim against k (``after[k]``, ``before[k]``, None where that swing
-    does not exist) with their limits as k -> oo (derived from McMahon's expansion)."""
+    """The margins of 002's claim against k: ``after[k]`` = inward[k] - the outward swing
+    after it (top), ``before[k - 1]`` = inward[k] - the one before it (bottom), with their
+    limits as k -> oo (derived from McMahon's expansion; None: not drawn)."""
     import numpy as np
-    with _rc():
-        fig, axes = new_figure(6.0, 4.0)
-        ax = axes[0][0]
-        for values, limit, colour, marker, name in (
-                (after, limit_after, "C0", "o", "after"), (before, limit_before, "C3", "s", "before")):
-            k = np.array([i for i, v in enumerate(values) if v is not None])
-            v = np.array([float(x) for x in values if x is not None])
+    from matplotlib.ticker import MaxNLocator
+    with _rc(), _math():
+        fig, axes = new_figure(6.0, 4.8, 2, 1, sharex=True)
+        rows = ((after, 0, limit_after, "C0", "o", "after", r"6 - \pi^2/2"),
+                (before, 1, limit_before, "C3", "s", "before", r"6 + \pi^2/2"))
+        for ax, (values, first, limit, colour, marker, name, closed) in zip(axes[:, 0], rows):
+            k = np.arange(first, first + len(values))
+            v = np.array([float(x) for x in values])
             if k.size:
                 ax.plot(k, v, marker, color=colour, mfc="none", ms=4, ls="none",
-                        label=f"margin {name} (certified)")
-            ax.axhline(limit, color=colour, lw=0.8, ls="--",
-                       label=f"limit k → ∞: 6 {'−' if name == 'after' else '+'} π²/2 = {minus(limit, '.6g')}")
-        ax.axhline(0.0, color="0.5", lw=0.6, ls=":")
-        ax.set_xlabel("k")
-        ax.set_ylabel("margin (unit |dL/dt|/(4g))")
-        ax.set_title(y=1.0, label=title)
-        from matplotlib.ticker import MaxNLocator
-        ax.xaxis.set_major_locator(MaxNLocator(integer=True))
-        ax.legend(loc="center right", frameon=True, framealpha=0.9, edgecolor="none")
-        _margins(fig, left=0.75, right=0.15, bottom=0.48, top=0.3)
+                        label=f"inward swing $k$ minus the outward swing {name} it (certified)")
+            if limit is not None:
+                ax.axhline(limit, color=colour, lw=0.8, ls="--",
+                           label=rf"limit as $k \to \infty$: ${closed} = {limit:.6g}$")
+            ax.set_ylabel(f"margin {name}\n" + r"(unit $|dL/dt|/(4g)$)")
+            ax.legend(loc="best", frameon=False)
+        axes[0][0].set_title(y=1.0, label=title)
+        axes[1][0].set_xlabel(r"$k$")
+        axes[1][0].xaxis.set_major_locator(MaxNLocator(integer=True))
+        _margins(fig, left=0.8, right=0.15, bottom=0.45, top=0.3, hspace=0.12)
     return fig
+
+
+def _math():
+    """Mathematics in Computer Modern, as the lecture notes typeset it."""
+    import matplotlib
+    return matplotlib.rc_context({"mathtext.fontset": "cm"})
