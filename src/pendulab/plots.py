@@ -171,11 +171,22 @@ def check_target(path, option="--plot"):
         raise InputError(f"{option} {path}: no directory {folder}")
     if not os.access(folder, os.W_OK | os.X_OK) or (os.path.exists(path) and not os.access(path, os.W_OK)):
         raise InputError(f"{option} {path}: cannot write there (permission denied)")
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        raise InputError(f"{option} needs matplotlib: pip install 'pendulab[figures]'") from None
+    if not have_matplotlib():
+        raise InputError(f"{option} needs matplotlib: pip install 'pendulab[figures]'")
     return FORMATS[ext]
+
+
+def have_matplotlib():
+    """Whether matplotlib can be imported, found without importing it (a usage error with
+    --plot stays as quick as one without)."""
+    import importlib.util
+    import sys
+    if "matplotlib" in sys.modules:
+        return sys.modules["matplotlib"] is not None
+    try:
+        return importlib.util.find_spec("matplotlib") is not None
+    except (ImportError, ValueError):
+        return False
 
 
 def new_figure(width, height, nrow=1, ncol=1, **kw):
