@@ -150,8 +150,11 @@ def test_stability_plots_lower_and_upper_around_its_ratio(tmp_path, capsys, draw
     assert ratios[0] == 0.0 and ratios[-1] == plots_min_top()  # max(2 x 0.2, 0.5)
     k = int(np.flatnonzero(ratios == 0.2)[0])
     assert lower.get_xdata()[k] == record["lower"] and upper.get_xdata()[k] == record["upper"]
-    marks = [line for line in _lines(ax) if line.get_marker() in ("o", "s")]
-    assert sorted(float(m.get_xdata()[0]) for m in marks) == [record["lower"], record["upper"]]
+    marks = {line.get_label().split(" ")[0]: line for line in _lines(ax) if line.get_marker() in ("o", "s")}
+    assert sorted(marks) == ["lower", "upper"]
+    for side in ("lower", "upper"):  # each marked at its own limit, on the asked ratio
+        assert list(marks[side].get_xdata()) == [record[side]] and list(marks[side].get_ydata()) == [0.2]
+    assert marks["lower"].get_marker() != marks["upper"].get_marker()
     # the axes fitted to the data: omega0/omega over the plotted ratios, a/l just past the limits
     assert ax.get_ylim() == (0.0, float(ratios[-1]))
     top = max(np.nanmax(upper.get_xdata()), np.nanmax(lower.get_xdata()))
