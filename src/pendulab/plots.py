@@ -153,8 +153,8 @@ def log_ticks(ax):
 def plot_option(p, what):
     """--plot FILE on the parser ``p`` of a command; ``what`` says what the figure shows."""
     p.add_argument("--plot", metavar="FILE",
-                   help=f"also draw {what} into FILE: PNG, PDF or SVG by its extension "
-                        "(needs matplotlib, the 'figures' extra)")
+                   help="also write a figure to FILE, PNG, PDF or SVG by its extension (needs "
+                        f"matplotlib, the 'figures' extra): {what}")
 
 
 def check_target(path, option="--plot"):
