@@ -383,11 +383,17 @@ def zeros_figure(nu, zeros, title):
                  label=f"McMahon, {MCMAHON_TERMS} terms (DLMF 10.21.19)")
         ax2.plot(k, diff, "o", color="k", mfc="none", ms=4, ls="none", label=r"$j_{\nu,k} - \beta_k$")
         span = [float(diff.min()), float(diff.max()), 0.0]
-        pad = 0.1 * (max(span) - min(span) or 1.0)
-        ax2.set_ylim(min(span) - pad, max(span) + pad)
+        width = max(span) - min(span) or 1.0
+        # the legend off the points: the points tend to 0 on the right; where they are near
+        # it already, the legend goes to the far side, else between them and 0 (room made)
+        below = diff[-1] < 0
+        near = abs(diff[-1]) < 0.5 * float(np.abs(diff).max())
+        upper = below != near
+        ax2.set_ylim(min(span) - (0.1 if upper else 0.45) * width,
+                     max(span) + (0.45 if upper else 0.1) * width)
         ax2.set_ylabel(r"$j_{\nu,k} - \beta_k$")
         ax2.set_xlabel(r"$k$")
-        ax2.legend(loc="lower right" if span[0] < 0 else "upper right", frameon=False)
+        ax2.legend(loc="upper right" if upper else "lower right", frameon=False)
         ax.set_xlim(0.5, len(zeros) + 0.5)
         ax2.xaxis.set_major_locator(MaxNLocator(integer=True))
         _margins(fig, left=0.8, right=0.15, bottom=0.45, top=0.3, hspace=0.1)
