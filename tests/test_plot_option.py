@@ -339,3 +339,27 @@ def test_a_refused_plot_imports_nothing_heavy(tmp_path, argv):
     res = json.loads(run.stdout)
     assert res == {"code": 2, "heavy": []}
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_run_refused_after_its_work_writes_no_plot(tmp_path, capsys):
+    # the linear equation at omega0/omega = 1000 grows like exp(2000 tau): RK4 overflows and
+    # the command refuses the run; the plot, drawn only from a finished run, is not written
+    err = _refused(["simulate", "--linear", "--w0-over-w", "1000", "--a-over-l", "0", "--periods",
+                    "1", "--steps-per-period", "50", "--plot", str(tmp_path / "run.png")], capsys)
+    assert "overflowed" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_sweep_plot_of_a_hill_drive_draws_the_monodromy_region(tmp_path, capsys, drawn):
+    # a drive with a second harmonic gives a Hill equation: no eq. 28 (Mathieu's), the region
+    # is the monodromy matrix's verdict on the sweep's own grid, as in the experiments product
+    argv = ["sweep", "--drive", "a*cos(omega*t) + a*cos(2*omega*t)", "--criterion", "floquet",
+            "--grid", "6", "--quiet"]
+    record = _json(argv, capsys)
+    assert main(argv + ["--plot", str(tmp_path / "hill.png")]) == 0
+    (fig,) = drawn
+    ax = fig.axes[0]
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["exact (Floquet)"]
+    assert "monodromy" in fig._suptitle.get_text()
+    circles = [line for line in ax.get_lines() if line.get_marker() == "o"][0]
+    assert len(circles.get_xdata()) == record["count"]
