@@ -72,12 +72,15 @@ def test_each_plot_is_a_file_of_its_type(tmp_path, capsys, name, ext):
     assert [p.name for p in tmp_path.iterdir()] == [path.name]  # no temporary file left
 
 
-def test_a_plot_is_the_same_bytes_on_every_run(tmp_path, capsys):
+@pytest.mark.parametrize("name", ["stability", "zeros"])  # plain text labels; mathematics
+def test_a_plot_is_the_same_bytes_on_every_run(tmp_path, capsys, name):
     for ext in (".svg", ".png", ".pdf"):
         one, two = tmp_path / f"one{ext}", tmp_path / f"two{ext}"
-        assert main(RUNS["stability"] + ["--plot", str(one)]) == 0
-        assert main(RUNS["stability"] + ["--plot", str(two)]) == 0
+        assert main(RUNS[name] + ["--plot", str(one)]) == 0
+        assert main(RUNS[name] + ["--plot", str(two)]) == 0
         assert one.read_bytes() == two.read_bytes(), ext
+        data = one.read_bytes()  # no date, no software version inside
+        assert not any(mark in data for mark in (b"<dc:date>", b"CreationDate", b"Matplotlib v"))
     capsys.readouterr()
 
 

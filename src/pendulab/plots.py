@@ -209,7 +209,7 @@ def figure_bytes(fig, fmt):
         return figures.save(fig, DPI)[".pdf"]
     buffer = io.BytesIO()
     with matplotlib.rc_context({**SVG_RC, **figures.SAVEFIG_RC}):
-        fig.savefig(buffer, format="svg", metadata={"Date": None})
+        fig.savefig(buffer, format="svg", metadata={"Date": None, "Creator": None})
     return buffer.getvalue()
 
 
