@@ -165,7 +165,10 @@ def _plot(path, fmt, system, spec, result, record):
     from pendulab.numerics import sweep as S
     from pendulab.products.experiments import initial_title, map_limits
     mathieu = S.stages(system)[1].kind == "mathieu"
-    limits, region = map_limits(system, mathieu, spec.w0_over_w)
+    # a Hill drive's region is the Floquet map on the sweep's own grid: the floquet
+    # criterion's result itself
+    known = result.stable[0] if not mathieu and spec.criterion == "floquet" else None
+    limits, region = map_limits(system, mathieu, spec.w0_over_w, known)
     th, om = spec.initial[0]
     run = "" if spec.criterion == "floquet" else f" ({spec.periods} periods × {spec.steps_per_period} steps)"
     title = initial_title(th, om, len(spec.a_over_l), limits, extra=f", {record['body']}")

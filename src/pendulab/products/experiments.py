@@ -167,9 +167,10 @@ def _fine(ctx, spec, mathieu, w):
     return ctx.memo[key]
 
 
-def map_limits(spec, mathieu, w):
+def map_limits(spec, mathieu, w, region=None):
     """(limits, region paths) that a map figure draws under its cells (see :func:`_fine`;
-    ``pendulab sweep --plot`` draws the same)."""
+    ``pendulab sweep --plot`` draws the same).  ``region``: the Floquet map on w x w when the
+    caller has it already (a Hill drive's map by the floquet criterion)."""
     from pendulab.numerics import experiments as E
     if mathieu:
         fine = E.S.linspace_grid(FINE)
@@ -178,7 +179,7 @@ def map_limits(spec, mathieu, w):
                   "region_values": fine, "region": E.floquet_region(spec, fine)}
     else:
         limits = {"w0_over_w": w, "curves": {}, "region_values": w,
-                  "region": E.floquet_region(spec, w)}
+                  "region": E.floquet_region(spec, w) if region is None else region}
     return limits, region_paths(limits)
 
 
