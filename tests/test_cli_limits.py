@@ -43,6 +43,11 @@ NOT_NUMERIC = {
     ("animate kapitza", "--out"): "a file name",
     ("animate variable-length", "--length"): "an expression",
     ("animate variable-length", "--out"): "a file name",
+    ("sweep", "--plot"): "a file name (pendulab.plots.check_target)",
+    ("simulate", "--plot"): "a file name (pendulab.plots.check_target)",
+    ("stability", "--plot"): "a file name (pendulab.plots.check_target)",
+    ("bessel zeros", "--plot"): "a file name (pendulab.plots.check_target)",
+    ("bessel quarter-periods", "--plot"): "a file name (pendulab.plots.check_target)",
 }
 
 

@@ -25,6 +25,9 @@ def add_parser(sub):
     argument(z, "--count", "bessel.zeros", required=True, metavar="K", text="K")
     argument(z, "--dps", "bessel.dps", default="30", text="significant digits")
     z.add_argument("--json", action="store_true", help="print JSON ({\"zeros\": [...]})")
+    from pendulab.plots import plot_option
+    plot_option(z, "j_n,k against k over McMahon's beta_k = (k + n/2 - 1/4) pi, and j_n,k - "
+                   "beta_k with McMahon's expansion, which tends to 0 (DLMF 10.21.19)")
     z.set_defaults(func=run_zeros)
     q = what.add_parser("quarter-periods", help="002's quarter periods (differences of squares of zeros)",
                         description="inward[k] = j_1,k+2^2 - j_2,k+1^2 and outward[k] = j_2,k+2^2 - "
@@ -37,6 +40,9 @@ def add_parser(sub):
     q.add_argument("--shortening", action="store_true",
                    help="a shortening string: z decreases from j_2,m to 0 (K quarter periods in all)")
     q.add_argument("--json", action="store_true", help="print JSON")
+    plot_option(q, "the two margins of the claim against k with their limits 6 -+ pi^2/2 as "
+                   "k -> oo (derived from McMahon's expansion, DLMF 10.21.19; drawn for a "
+                   "growing string)")
     q.set_defaults(func=run_quarter)
     i = what.add_parser("identities", help="check 002's Bessel identities at any precision",
                         description="Worst relative error of J_n Y_n+1 - J_n+1 Y_n = -2/(pi z), "
@@ -75,11 +81,17 @@ def run_zeros(args):
         problems.add(f"--count x --dps = {count * dps} is more than {budget} digits in all "
                      f"{'for a non-integer order ' if dear else ''}(about a minute): "
                      "ask for fewer or shorter numbers")
+    plot_format = _plot_format(args, problems)
     problems.raise_any()
 
     from pendulab.analyses.bessel_zeros import bessel_zeros
     from pendulab.io import canonical_json
     res = bessel_zeros(args.order, count, dps)
+    if plot_format is not None:
+        from pendulab import plots
+        fig = plots.zeros_figure(res.nu, [float(x) for x in res.strings],
+                                 rf"The first {len(res.strings)} positive zeros of $J_\nu$, $\nu = {res.nu}$")
+        plots.write(fig, args.plot, plot_format)
     if args.json:
         print(canonical_json({"order": str(res.nu), "dps": res.dps, "zeros": res.strings,
                               "certified": True, "phase_checked": res.phase_checked}), end="")
@@ -98,6 +110,7 @@ def run_quarter(args):
     if count is not None and dps is not None and count * dps > limits.QUARTER_PERIOD_WORK:
         problems.add(f"--count x --dps = {count * dps} is more than {limits.QUARTER_PERIOD_WORK} "
                      "(about a minute): ask for fewer or shorter numbers")
+    plot_format = _plot_format(args, problems)
     problems.raise_any()
 
     from pendulab.analyses.bessel_periods import GROWING, SHORTENING, quarter_periods
@@ -105,6 +118,8 @@ def run_quarter(args):
     from pendulab.products.bessel import quarter_record
     q = quarter_periods(count, dps, SHORTENING if args.shortening else GROWING)
     rec = quarter_record(q)
+    if plot_format is not None:
+        _plot_margins(args.plot, plot_format, q)
     if args.json:
         print(canonical_json(rec), end="")
         return 0
@@ -121,6 +136,27 @@ def run_quarter(args):
     if q.time_to_zero_length is not None:
         print(f"L reaches 0 at t = {q.time_to_zero_length} (z = 0)")
     return 0
+
+
+def _plot_format(args, problems):
+    """The format of --plot ("png", "pdf", "svg"), None without it or when it is refused."""
+    if args.plot is None:
+        return None
+    from pendulab.plots import check_target
+    return problems.call(check_target, args.plot)
+
+
+def _plot_margins(path, fmt, q):
+    """--plot of quarter-periods: the margins against k and their derived limits."""
+    from pendulab import plots
+    from pendulab.analyses.bessel_periods import GROWING, margin_limits
+    after, before = (None, None)
+    if q.direction == GROWING:  # the limits of the growing string's margins (k -> oo)
+        after, before, _ = margin_limits()
+        after, before = float(after), float(before)
+    title = (f"002's claim, {q.direction} string from $z_0 = j_{{2,{q.start}}}$: each margin > 0")
+    fig = plots.margins_figure(q.margin_after, q.margin_before, after, before, title)
+    plots.write(fig, path, fmt)
 
 
 def run_identities(args):

@@ -1,6 +1,6 @@
 """pendulab simulate [--body rod|point | --inertia-ratio R] --a-over-l A --w0-over-w W
    --theta-init X --omega-init Y [--periods P] [--steps-per-period S] [--every K] [--linear]
-   [--drive EXPR] [--reference] [--json | --csv]"""
+   [--drive EXPR] [--reference] [--json | --csv] [--plot FILE]"""
 
 import argparse
 
@@ -35,6 +35,9 @@ def add_parser(sub):
     out = p.add_mutually_exclusive_group()
     out.add_argument("--json", action="store_true", help="print a JSON record")
     out.add_argument("--csv", action="store_true", help="print CSV: tau,theta,dtheta[,theta_ref]")
+    from pendulab.plots import plot_option
+    plot_option(p, "theta against tau (the printed rows, every K steps) over the pivot's "
+                   "y0/a, and with --reference |RK4 - DOP853| of theta")
     p.set_defaults(func=run)
     return p
 
@@ -59,6 +62,10 @@ def run(args):
     steps = problems.parse("experiments.steps_per_period", args.steps_per_period,
                            "--steps-per-period")
     every = problems.parse("simulate.every", args.every, "--every")
+    plot_format = None
+    if args.plot is not None:
+        from pendulab.plots import check_target
+        plot_format = problems.call(check_target, args.plot)
     if not problems:
         size = None
         if args.reference:
@@ -97,6 +104,8 @@ def run(args):
     if args.reference:
         record["theta_reference"] = ref[:, 0].tolist()
         record["max_error_theta"] = run["max_error_theta"]
+    if plot_format is not None:
+        _plot(args.plot, plot_format, system, record, args.reference)
     buf = io.StringIO()
     if args.json:
         buf.write(canonical_json(record))
@@ -119,3 +128,27 @@ def run(args):
             buf.write(f"{tau[k]:12.6f} {states[k, 0]:22.15e} {states[k, 1]:22.15e}\n")
     sys.stdout.write(buf.getvalue())
     return 0
+
+
+#: points per drive period (pi in tau) at which --plot draws the pivot's y0/a
+PIVOT_POINTS = 48
+
+
+def _plot(path, fmt, system, record, reference):
+    """--plot: theta of the printed rows over the pivot's y0/a (from the derived drive), and
+    |theta - theta_DOP853| of those rows with --reference."""
+    import numpy as np
+
+    from pendulab import plots
+    from pendulab.numerics.experiments import pivot_height
+    tau = np.asarray(record["tau"])
+    theta = np.asarray(record["theta"])
+    fine = np.linspace(float(tau[0]), float(tau[-1]), PIVOT_POINTS * record["periods"] + 1)
+    pivot = np.broadcast_to(np.asarray(pivot_height(system)(fine), dtype=float), fine.shape)
+    error = np.abs(theta - np.asarray(record["theta_reference"])) if reference else None
+    drive = "y₀ = a·cos(ωt)" if system.drive is None else f"y₀ = {system.drive}"
+    title = (f"{record['body']}, a/l = {record['a_over_l']:g}, ω₀/ω = {record['w0_over_w']:g}, "
+             f"θ(0) = {plots.minus(record['theta_init'], 'g')}, "
+             f"dθ/dτ(0) = {plots.minus(record['omega_init'], 'g')}; {drive}"
+             + (" (linearised)" if record["linear"] else ""))
+    plots.write(plots.simulate_figure(tau, theta, fine, pivot, error, title), path, fmt)

@@ -1,4 +1,10 @@
-"""pendulab stability [--body rod|point | --inertia-ratio R] --ratio W0_OVER_W [--method M] [--json]"""
+"""pendulab stability [--body rod|point | --inertia-ratio R] --ratio W0_OVER_W [--method M] [--json]
+   [--plot FILE]"""
+
+#: ratios omega0/omega at which --plot computes the limits (0 to the top, evenly)
+PLOT_POINTS = 81
+#: the smallest top of the plotted ratios (the range is 0 .. max(2 W0_OVER_W, this))
+PLOT_MIN_TOP = 0.5
 
 
 def add_parser(sub):
@@ -21,6 +27,10 @@ def add_parser(sub):
                         f"(N {describe('stability.series_order')}) or integer-series:N "
                         f"(the a_0, b_1 series, N {describe('stability.integer_series_order')})")
     p.add_argument("--json", action="store_true", help="print a JSON record")
+    from pendulab.plots import plot_option
+    plot_option(p, f"the method's lower and upper limits of a/l against omega0/omega on "
+                   f"{PLOT_POINTS} ratios from 0 to twice W0_OVER_W (at least to "
+                   f"{PLOT_MIN_TOP}), the stable band between them shaded and W0_OVER_W marked")
     p.set_defaults(func=run)
     return p
 
@@ -42,6 +52,10 @@ def run(args):
         inertia = problems.parse("stability.inertia_ratio", args.inertia_ratio, "--inertia-ratio")
     ratio = problems.parse("stability.ratio", args.ratio, "--ratio")
     problems.call(parse_method, args.method, prefix="--method: ")
+    plot_format = None
+    if args.plot is not None:
+        from pendulab.plots import check_target
+        plot_format = problems.call(check_target, args.plot)
     problems.raise_any()  # before SymPy is imported: a usage error answers at once
     if body is not None:
         from pendulab import symbols as S
@@ -53,6 +67,8 @@ def run(args):
     note = _note(args.method, lower, upper)
     if note:
         record["note"] = note
+    if plot_format is not None:
+        _plot(args.plot, plot_format, record)
     if args.json:
         sys.stdout.write(canonical_json(record))
     else:
@@ -82,3 +98,25 @@ def _note(method, lower, upper):
                 why = "this method gives no such limit at this ratio"
             said.append(f"{name} none: {why}")
     return "; ".join(said)
+
+
+def plot_ratios(ratio):
+    """The ratios of --plot: PLOT_POINTS from 0 to max(2 ratio, PLOT_MIN_TOP), capped at the
+    largest ratio the command takes, with ``ratio`` itself among them."""
+    from pendulab.limits import LIMITS
+    top = min(max(2 * ratio, PLOT_MIN_TOP), float(LIMITS["stability.ratio"][2]))
+    values = [top * k / (PLOT_POINTS - 1) for k in range(PLOT_POINTS)]
+    return sorted(set(values) | {ratio})
+
+
+def _plot(path, fmt, record):
+    """--plot: the limits by the same method over :func:`plot_ratios`."""
+    from pendulab import plots
+    from pendulab.analyses.stability import limits
+    ratios = plot_ratios(record["ratio"])
+    pairs = [limits(w, record["inertia_ratio"], record["method"]) for w in ratios]
+    who = record["body"] or f"I/(m l²) = {record['inertia_ratio']:g}"
+    title = f"Inverted pendulum ({who}): limits of a/l, {plots.method_name(record['method'])}"
+    fig = plots.stability_figure(ratios, [p[0] for p in pairs], [p[1] for p in pairs], record["ratio"],
+                                 (record["lower"], record["upper"]), record["method"], title)
+    plots.write(fig, path, fmt)

@@ -1,6 +1,6 @@
 """pendulab sweep [--body rod|point | --inertia-ratio R] --theta-init X --omega-init Y --grid N
    --periods P --steps-per-period S --criterion mean|mean-abs|bounded|floquet [--drive EXPR]
-   [--json] [--quiet] [--dask ADDRESS]"""
+   [--json] [--quiet] [--dask ADDRESS] [--plot FILE]"""
 
 import argparse
 import re
@@ -95,6 +95,10 @@ def add_parser(sub):
              text="local worker processes (default: automatic; 1 runs in this process)")
     p.add_argument("--json", action="store_true", help="print a JSON record (keys count, stable, ...)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    from pendulab.plots import plot_option
+    plot_option(p, "the map: stable cells as open circles over the Floquet-stable region (shaded), "
+                   "its edge (the exact limits, dashed) and eq. 28's limits, as the experiments "
+                   "product draws Figs. 3-4")
     p.set_defaults(func=run)
     return p
 
@@ -124,6 +128,10 @@ def run(args):
         problems.add("--prune applies to mean, mean-abs and bounded (floquet integrates nothing)")
     if args.dask is not None and args.processes is not None:
         problems.add("give --dask or --processes, not both")
+    plot_format = None
+    if args.plot is not None:
+        from pendulab.plots import check_target
+        plot_format = problems.call(check_target, args.plot)
     if not problems:
         work = limits.sweep_problem(grid * grid, periods * steps, backend_estimate(),
                                     args.criterion, drive=args.drive is not None)
@@ -137,6 +145,8 @@ def run(args):
     result = S.pruned_sweep(spec, **kwargs) if args.prune else S.sweep(spec, **kwargs)
     record = result.record()
     record["cells"] = spec.cells
+    if plot_format is not None:
+        _plot(args.plot, plot_format, system, spec, result, record)
     if args.json:
         sys.stdout.write(canonical_json(record))
         return 0
@@ -147,3 +157,21 @@ def run(args):
     for a, w in record["stable"]:
         print(f"  a/l = {a!r}, omega0/omega = {w!r}")
     return 0
+
+
+def _plot(path, fmt, system, spec, result, record):
+    """--plot: the map of ``result`` drawn as the experiments product draws its maps."""
+    from pendulab import plots
+    from pendulab.numerics import sweep as S
+    from pendulab.products.experiments import initial_title, map_limits
+    mathieu = S.stages(system)[1].kind == "mathieu"
+    # a Hill drive's region is the Floquet map on the sweep's own grid: the floquet
+    # criterion's result itself
+    known = result.stable[0] if not mathieu and spec.criterion == "floquet" else None
+    limits, region = map_limits(system, mathieu, spec.w0_over_w, known)
+    th, om = spec.initial[0]
+    run = "" if spec.criterion == "floquet" else f" ({spec.periods} periods × {spec.steps_per_period} steps)"
+    title = initial_title(th, om, len(spec.a_over_l), limits, extra=f", {record['body']}")
+    fig = plots.sweep_figure(spec.a_over_l, spec.w0_over_w, result.stable[0], spec.criterion,
+                             record["count"], limits, region, title, run)
+    plots.write(fig, path, fmt)

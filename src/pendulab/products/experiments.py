@@ -21,6 +21,9 @@ of sin(), which differs between the C library and NumPy.
 
 from pendulab.errors import InputError
 from pendulab.figures import collector_paused
+# the figures' rc settings, panel titles and labels (plain Unicode text, or typeset as
+# mathematics for labels = "math"): shared with the commands' --plot
+from pendulab.plots import LABELS, MATH, MATH_LABELS, RC, TEXT
 
 from pendulab.limits import option as _limited
 
@@ -51,21 +54,6 @@ SYSTEMS = ("kapitza",)
 FINE = 301
 #: Points of omega0/omega at which the eq. 28 curves of the figures are computed.
 CURVE = 41
-
-#: Panel titles of the maps, plain Unicode text (DejaVu Sans has the glyphs; no mathtext parse per figure).
-LABELS = {"mean": "|⟨θ⟩| < 0.1", "mean-abs": "⟨|θ|⟩ < 0.1", "bounded": "|θ| < π/2", "floquet": "Floquet (linear)"}
-#: The same titles typeset as mathematics (``labels = "math"``), and the other labels of the
-#: figures in both styles.
-MATH_LABELS = {"mean": r"$|\langle\theta\rangle| < 0.1$", "mean-abs": r"$\langle|\theta|\rangle < 0.1$",
-               "bounded": r"$|\theta| < \pi/2$", "floquet": "Floquet (linear)"}
-TEXT = {"a/l": "a/l", "w0/w": "ω₀/ω", "theta(tau)": "θ(τ)", "tau": "τ", "theta": "θ",
-        "error": "|series − RK4|", "pivot": "pivot y₀/a", "theta0": "θ₀", "theta1": "θ₁",
-        "theta(0)": "θ(0)", "dtheta(0)": "dθ/dτ(0)", "math": False}
-MATH = {"a/l": "$a/l$", "w0/w": r"$\omega_0/\omega$", "theta(tau)": r"$\theta(\tau)$", "tau": r"$\tau$",
-        "theta": r"$\theta$", "error": r"$|$series $-$ RK4$|$", "pivot": r"pivot $y_0/a$",
-        "theta0": r"$\theta_0$", "theta1": r"$\theta_1$", "theta(0)": r"$\theta(0)$",
-        "dtheta(0)": r"$\theta'(0)$", "math": True}
-
 
 def _round(v):
     import math
@@ -173,19 +161,26 @@ def _fine(ctx, spec, mathieu, w):
     made once per process and scene: for Mathieu's equation the eq. 28 curves on CURVE points
     and the Floquet region on FINE x FINE points; for a Hill drive the Floquet (monodromy)
     region on the map's own grid ``w``."""
-    from pendulab.numerics import experiments as E
     key = "experiments:fine"
     if key not in ctx.memo:
-        if mathieu:
-            fine = E.S.linspace_grid(FINE)
-            w21 = E.S.linspace_grid(CURVE)
-            ctx.memo[key] = {"w0_over_w": w21, "curves": E.limit_curves(spec, w21, ("eq28",)),
-                             "region_values": fine, "region": E.floquet_region(spec, fine)}
-        else:
-            ctx.memo[key] = {"w0_over_w": w, "curves": {}, "region_values": w,
-                             "region": E.floquet_region(spec, w)}
-        ctx.memo[key] = (ctx.memo[key], region_paths(ctx.memo[key]))
+        ctx.memo[key] = map_limits(spec, mathieu, w)
     return ctx.memo[key]
+
+
+def map_limits(spec, mathieu, w, region=None):
+    """(limits, region paths) that a map figure draws under its cells (see :func:`_fine`;
+    ``pendulab sweep --plot`` draws the same).  ``region``: the Floquet map on w x w when the
+    caller has it already (a Hill drive's map by the floquet criterion)."""
+    from pendulab.numerics import experiments as E
+    if mathieu:
+        fine = E.S.linspace_grid(FINE)
+        w21 = E.S.linspace_grid(CURVE)
+        limits = {"w0_over_w": w21, "curves": E.limit_curves(spec, w21, ("eq28",)),
+                  "region_values": fine, "region": E.floquet_region(spec, fine)}
+    else:
+        limits = {"w0_over_w": w, "curves": {}, "region_values": w,
+                  "region": E.floquet_region(spec, w) if region is None else region}
+    return limits, region_paths(limits)
 
 
 def produce_part(ctx, options, part):
@@ -308,12 +303,6 @@ def _matplotlib():
     return pyplot("experiment")
 
 
-#: ps.fonttype too: matplotlib's PDF backend sizes its font subsets by it, and at its default (3)
-#: puts the characters above U+00FF (θ, ω, −) in a second copy of DejaVu Sans in every PDF
-RC = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "savefig.dpi": 150,
-      "pdf.fonttype": 42, "ps.fonttype": 42, "path.simplify": False}
-
-
 def _rc(L):
     """The figures' rc settings: :data:`RC`, and Computer Modern mathematics for ``labels = "math"``."""
     return {**RC, "mathtext.fontset": "cm"} if L["math"] else RC
@@ -338,7 +327,8 @@ def _margins(fig, **inches):
 
 def _minus(x, spec):
     """``format(x, spec)`` with a true minus sign (U+2212), as mathtext wrote it."""
-    return format(x, spec).replace("-", "\u2212")
+    from pendulab.plots import minus
+    return minus(x, spec)
 
 
 def region_paths(limits):
@@ -371,7 +361,6 @@ def figure_map(m, limits, title, region=None, L=TEXT):
     ``region``: :func:`region_paths` of ``limits`` (made here if not given)."""
     import numpy as np
     matplotlib, plt = _matplotlib()
-    from matplotlib.patches import PathPatch
     shaded, edge = region_paths(limits) if region is None else region
     crits = list(m["maps"])
     ncol = 2 if len(crits) > 1 else 1
@@ -383,26 +372,11 @@ def figure_map(m, limits, title, region=None, L=TEXT):
         fig, axes = _MAP_FIGURES.pop(key, None) or _map_figure(matplotlib, nrow, ncol)
         kept = False
         try:
-            n = len(a)
-            ms = max(0.6, min(4.0, 220.0 / max(n, 1)))
-            from matplotlib.lines import Line2D
+            from pendulab.plots import cell_size, draw_map_panel
+            ms = cell_size(len(a))
             for k, c in enumerate(crits):
                 ax = axes[k // ncol][k % ncol]
-                # as contourf (no antialiasing, below the lines) and contour would draw them;
-                # add_artist, not add_patch, which walks every segment for the data limits (set below)
-                ax.add_artist(PathPatch(shaded, facecolor="0.85", edgecolor="none", linewidth=0,
-                                        antialiased=False, zorder=1))
-                ax.add_artist(PathPatch(edge, fill=False, edgecolor="C0", linestyle="--", linewidth=1.0,
-                                        zorder=2))
-                ii, jj = np.nonzero(m["maps"][c])
-                ax.plot(a[jj], w[ii], "o", mfc="none", mec="k", ms=ms, mew=0.4, ls="none")
-                if "eq28" in limits["curves"]:
-                    lo, up = limits["curves"]["eq28"]
-                    ax.plot(lo, limits["w0_over_w"], "-", color="C3", lw=1.0, label="eq. 28")
-                    ax.plot(up, limits["w0_over_w"], "-", color="C3", lw=1.0)
-                ax.add_line(Line2D([], [], ls="--", color="C0", lw=1.0, label="exact (Floquet)"))
-                ax.set_xlim(0, 1)
-                ax.set_ylim(0, 1)
+                draw_map_panel(ax, a, w, m["maps"][c], limits, (shaded, edge), ms)
                 ax.set_title(y=1.0, label=f"{(MATH_LABELS if L['math'] else LABELS)[c]}: "
                              f"{m['counts'][c]} stable")
                 if k + ncol >= len(crits):  # the lowest panel of its column (the last row, or above an empty cell)
@@ -457,20 +431,20 @@ def _empty_map_figure(fig):
 def figure_fig5(r, L=TEXT):
     import numpy as np
 
-    from pendulab.figures import power_of_ten
     matplotlib, plt = _matplotlib()
     with matplotlib.rc_context(_rc(L)):
         fig, (ax, ax2) = plt.subplots(2, 1, figsize=(6.6, 5.0), sharex=True,
                                       gridspec_kw={"height_ratios": [2, 1]})
         try:
+            from pendulab.plots import draw_error, draw_theta, log_ticks
             tau = r["tau"]
-            ax.plot(tau, r["theta"], "-", color="k", lw=1.0, label="RK4, full equation")
+            draw_theta(ax, tau, r["theta"], "RK4, full equation", lw=1.0)
             styles = ["--", ":", "-."]
             for k, (n, th) in enumerate(r["series"].items()):
                 ax.plot(tau, th, styles[k % 3], color=f"C{3 + k}", lw=1.0,
                         label=f"series (eq. 23), order {n}")
-                ax2.semilogy(tau, np.abs(th - r["theta"]) + 1e-18, styles[k % 3], color=f"C{3 + k}", lw=0.8,
-                             label=f"order {n}: max {r['error'][n]:.1e}")
+                draw_error(ax2, tau, np.abs(th - r["theta"]), styles[k % 3], f"C{3 + k}",
+                           f"order {n}: max {r['error'][n]:.1e}")
             ax.set_ylabel(L["theta(tau)"])
             if L["math"]:
                 ax.set_title(y=1.0, label=rf"$a/l = 1/5$, $\omega_0/\omega = 1/20$, $\theta(0) = {r['theta'][0]:g}$, "
@@ -479,9 +453,7 @@ def figure_fig5(r, L=TEXT):
                 ax.set_title(y=1.0, label=f"a/l = 1/5, ω₀/ω = 1/20, θ(0) = {r['theta'][0]:g}, "
                              f"dθ/dτ(0) = 0.01 (θ₀ = {_minus(r['theta0'], '.3g')}, θ₁ = {_minus(r['theta1'], '.3g')})")
             ax.legend(loc="lower left", frameon=False)
-            # 10⁻² as text: matplotlib's own labels are mathtext, parsed per label and dpi
-            ax2.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(power_of_ten))
-            ax2.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+            log_ticks(ax2)  # 10⁻² as text, not mathtext
             ax2.set_xlabel(L["tau"])
             ax2.set_ylabel(L["error"])
             ax2.legend(loc="lower right", frameon=False)
@@ -497,13 +469,14 @@ def figure_fig2(r, L=TEXT):
     with matplotlib.rc_context(_rc(L)):
         fig, ax = plt.subplots(figsize=(6.6, 3.6))
         try:
+            from pendulab.plots import draw_pivot, draw_theta
             tau = r["tau"]
-            ax.plot(tau, r["theta"], "-", color="k", lw=0.9, label=f"{L['theta(tau)']} (RK4, eq. 7)")
+            draw_theta(ax, tau, r["theta"], f"{L['theta(tau)']} (RK4, eq. 7)")
             ax.plot(tau, r["slow"], "--", color="C3", lw=1.2, label="slow part (mean over one drive period)")
             ax.set_xlabel(L["tau"])
             ax.set_ylabel(L["theta"])
             ax2 = ax.twinx()
-            ax2.plot(tau, r["pivot"], ":", color="0.3", lw=0.6, label=L["pivot"])
+            draw_pivot(ax2, tau, r["pivot"], L["pivot"])
             ax2.set_ylabel(L["pivot"])
             ax2.set_ylim(-6, 6)
             ax.set_title(y=1.0, label=f"{L['theta0']} = {_number(r['theta0'], 'g', L)}, "
@@ -526,9 +499,16 @@ def map_title(name, m, fine, L=TEXT):
     """The suptitle of map ``name``'s figure."""
     from pendulab.numerics.experiments import INITIAL
     th, om = INITIAL[name]
+    return initial_title(th, om, len(m["a_over_l"]), fine, L)
+
+
+def initial_title(th, om, n, fine, L=TEXT, extra=""):
+    """The suptitle of a map of n x n pairs from theta(0) = th, dtheta/dtau(0) = om (``extra``
+    after the pairs)."""
     # two lines: on one the suptitle is wider than the figure (clipped at both edges)
-    pairs = f"${len(m['a_over_l'])}^2$" if L["math"] else f"{len(m['a_over_l'])}²"
-    return (f"{L['theta(0)']} = {_number(th, 'g', L)}, {L['dtheta(0)']} = {_number(om, 'g', L)}, {pairs} pairs\n"
+    pairs = f"${n}^2$" if L["math"] else f"{n}²"
+    return (f"{L['theta(0)']} = {_number(th, 'g', L)}, {L['dtheta(0)']} = {_number(om, 'g', L)}, "
+            f"{pairs} pairs{extra}\n"
             + ("shaded: Floquet-stable; solid: eq. 28; dashed: exact" if fine["curves"]
                else "shaded: Floquet-stable (monodromy); dashed: its edge"))
 
