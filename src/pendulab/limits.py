@@ -240,7 +240,7 @@ def option(name):
 def parse(name, text, label=None):
     """The command-line text ``text`` read as option ``name`` and checked (:func:`check`).
 
-    Integers are read with ``int``; numbers as decimals or fractions ("1e-3", "-1/5"),
+    Integers are ASCII digits with an optional sign; numbers decimals or fractions ("1e-3", "-1/5"),
     exactly, and returned as floats once in range.  A text that is not such a number is
     refused with the range and the text as given:
 
@@ -255,11 +255,15 @@ def parse(name, text, label=None):
     if not isinstance(text, str):
         return check(name, text, label)
     if kind is int:
-        try:
-            value = int(text.strip())
-        except ValueError:
-            value = text
-        return check(name, value, label)
+        # int() would also read other scripts' digits ("\u0663", fullwidth "\uff13"):
+        # ASCII digits only, as fraction() does for numbers
+        value = text
+        if _INTEGER_TEXT.match(text.strip()):
+            try:
+                value = int(text.strip())
+            except ValueError:  # more digits than Python converts (sys.set_int_max_str_digits)
+                pass
+        return _ascii_hint(name, value, label, text)
     if kind in (float, "positive"):
         try:
             value = fraction(text)
@@ -268,9 +272,26 @@ def parse(name, text, label=None):
         try:
             check(name, value, label)
         except InputError:
-            check(name, text, label)  # the same message, showing the text as given
+            # the same message, showing the text as given
+            _ascii_hint(name, text, label, text)
         return float(value)
-    return check(name, text, label)
+    return _ascii_hint(name, text, label, text)
+
+
+_INTEGER_TEXT = re.compile(r"[+-]?[0-9]+\Z")
+
+
+def _ascii_hint(name, value, label, text):
+    """:func:`check` of ``value``; when it is refused and ``text`` is not ASCII, the message
+    says how numbers are written (other scripts' digits are not read)."""
+    try:
+        return check(name, value, label)
+    except InputError as exc:
+        if text.isascii():
+            raise
+        how = ("an integer is written with the ASCII digits 0-9" if LIMITS[name][0] is int
+               else "a number is written in ASCII: the digits 0-9, '-', '.', 'e', '/'")
+        raise InputError(f"{exc} ({how})") from None
 
 
 def argument(parser, flag, name, text=None, **kwargs):

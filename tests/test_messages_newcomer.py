@@ -1,0 +1,57 @@
+"""Messages a newcomer met with about 260 bad inputs (2026-12-04): each must say what is
+wrong, and only what is wrong, in one line, with exit status 2 and nothing written.
+
+The command line runs in-process (:func:`pendulab.cli.main`) unless a test needs a clean
+stderr (warnings), where it runs as a subprocess.
+"""
+
+import subprocess
+import sys
+
+import pytest
+
+from pendulab.cli import main
+from test_cli_limits import NUMERIC, _argv
+
+
+def _one_error(capsys, argv):
+    """The single ``pendulab: error:`` line of ``argv`` (exit status 2, nothing on stdout)."""
+    assert main(argv) == 2
+    out = capsys.readouterr()
+    lines = out.err.splitlines()
+    assert out.out == "" and len(lines) == 1 and lines[0].startswith("pendulab: error: "), out
+    return lines[0]
+
+
+# ---------------------------------------------------------------------------
+# one rule for the digits of every integer and number option
+# ---------------------------------------------------------------------------
+
+#: Three written the digits of other scripts: int() reads the first two (and the
+#: Devanagari one) as 3, and str.isdigit() is True for all of them.
+UNICODE_THREES = {
+    "arabic-indic": "\u0663",
+    "fullwidth": "\uff13",
+    "superscript": "\u00b3",
+    "devanagari": "\u0969",
+    "extended-arabic-indic in a number": "1\u06f3",
+}
+
+
+@pytest.mark.parametrize("kind", sorted(UNICODE_THREES))
+@pytest.mark.parametrize("command, option, name", NUMERIC, ids=lambda v: str(v))
+def test_digits_of_other_scripts_are_refused_by_every_numeric_option(command, option, name,
+                                                                    kind, capsys):
+    text = UNICODE_THREES[kind]
+    line = _one_error(capsys, _argv(command, option, text))
+    assert line.startswith(f"pendulab: error: {option} must be"), line
+    assert repr(text) in line and "ASCII" in line
+
+
+def test_the_same_options_accept_ascii_digits(capsys):
+    # the neighbour of the refusal: ASCII 3 (with a sign and spaces) is read
+    assert main(["sweep", "--grid", " +3 ", "--periods", "1", "--steps-per-period", "1",
+                 "--processes", "1", "--quiet", "--json"]) == 0
+    assert '"cells": 9' in capsys.readouterr().out
+    line = _one_error(capsys, ["sweep", "--grid", "1_0"])  # int() would read 10
+    assert "--grid must be an integer" in line and "ASCII" not in line
