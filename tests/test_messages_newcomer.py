@@ -55,3 +55,47 @@ def test_the_same_options_accept_ascii_digits(capsys):
     assert '"cells": 9' in capsys.readouterr().out
     line = _one_error(capsys, ["sweep", "--grid", "1_0"])  # int() would read 10
     assert "--grid must be an integer" in line and "ASCII" not in line
+
+
+# ---------------------------------------------------------------------------
+# backend = "auto" is costed as what it will run
+# ---------------------------------------------------------------------------
+
+def _fig3_scene(tmp_path, backend):
+    """One Fig. 3 map (the text's initial conditions) at 100 x 100, 300 periods x 100 steps:
+    3e8 RK4 steps, 450 s at NumPy's 1.5 us a step, 9 s at the C kernel's 30 ns."""
+    path = tmp_path / f"fig3-{backend}.toml"
+    path.write_text('system = "kapitza"\n[products.experiments]\nmaps = ["text"]\ngrid = 100\n'
+                    f'backend = "{backend}"\n', encoding="utf-8")
+    return path
+
+
+def _no_compiler(monkeypatch, tmp_path):
+    """The compiler look-up made to fail (both variables pendulab reads name a missing file)."""
+    for var in ("PENDULAB_CC", "CC"):
+        monkeypatch.setenv(var, str(tmp_path / "no-such-cc"))
+
+
+@pytest.mark.needs_cc
+def test_auto_is_costed_as_the_c_kernel_where_a_compiler_is_found(tmp_path):
+    from pendulab.commands.sweep import backend_estimate
+    from pendulab.errors import SceneError
+    from pendulab.scene import load_scene
+    assert load_scene(_fig3_scene(tmp_path, "auto")).products["experiments"]["backend"] == "auto"
+    assert backend_estimate() == "c"
+    # the same map on NumPy is refused: the acceptance above is the cost model's choice
+    with pytest.raises(SceneError, match="about 450 s"):
+        load_scene(_fig3_scene(tmp_path, "numpy"))
+
+
+def test_auto_without_a_compiler_is_costed_as_numpy(tmp_path, monkeypatch, capsys):
+    from pendulab.commands.sweep import backend_estimate
+    _no_compiler(monkeypatch, tmp_path)
+    assert backend_estimate() == "numpy"
+    out = tmp_path / "out"
+    line = _one_error(capsys, ["build", str(_fig3_scene(tmp_path, "auto")), "--out", str(out)])
+    assert "about 450 s" in line and "'auto', NumPy: no C compiler found" in line
+    assert not out.exists() or not any(out.iterdir())
+    # the sweep command's estimate says the same
+    line = _one_error(capsys, ["sweep", "--grid", "100", "--periods", "300"])
+    assert "about 450 s" in line and "NumPy backend (no C compiler found)" in line

@@ -514,9 +514,18 @@ BESSEL_IDENTITY_WORK = 4_000_000
 RK4_SECONDS = {"numpy": 1.5e-6, "c": 30e-9}
 
 
-def experiments_seconds(options):
-    """Estimated seconds of the experiments product's trajectories (maps, first experiment, Figs. 5, 2)."""
-    per = RK4_SECONDS["c" if options.get("backend") == "c" else "numpy"]
+def backend_run(backend, compiler):
+    """The RK4 backend a sweep asked for ``backend`` runs: "c" or "numpy"; "auto" runs the C
+    kernel where a C compiler is found (``compiler``: the caller's look-up, e.g.
+    :func:`pendulab.numerics.ckernel.compiler_found`, not made here: this module imports no
+    numerics)."""
+    return "c" if backend == "c" or (backend == "auto" and compiler) else "numpy"
+
+
+def experiments_seconds(options, compiler=False):
+    """Estimated seconds of the experiments product's trajectories (maps, first experiment,
+    Figs. 5, 2); ``compiler``: whether a C compiler was found (the cost of backend "auto")."""
+    per = RK4_SECONDS[backend_run(options.get("backend"), compiler)]
     steps = options["periods"] * options["steps_per_period"]
     nonlinear = [c for c in options["criteria"] if c != "floquet"]
     cells = 0
@@ -532,8 +541,10 @@ def experiments_seconds(options):
     return seconds
 
 
-def work_problem(product, options, what="the points and ratios asked", drive_period=None):
-    """A one-line problem when ``options`` of ``product`` would pass :data:`WORK_BUDGET_SECONDS`."""
+def work_problem(product, options, what="the points and ratios asked", drive_period=None,
+                 compiler=False):
+    """A one-line problem when ``options`` of ``product`` would pass :data:`WORK_BUDGET_SECONDS`
+    (``compiler``: whether a C compiler was found, for the experiments' backend "auto")."""
     import math
     if product == "motion":
         try:
@@ -566,17 +577,22 @@ def work_problem(product, options, what="the points and ratios asked", drive_per
         return "; ".join(problems) or None
     if product == "experiments":
         try:
-            seconds = experiments_seconds(options)
+            seconds = experiments_seconds(options, compiler)
         except (TypeError, KeyError):
             return None
         if seconds <= WORK_BUDGET_SECONDS:
             return None
+        backend = options.get("backend")
+        runs = backend_run(backend, compiler)
         ways = ["a smaller grid", "fewer periods or steps", "fewer maps"]
         ways += [] if options.get("prune") else ["prune = true"]
-        ways += [] if options.get("backend") == "c" else ['backend = "c"']
+        ways += [] if runs == "c" else ['backend = "c" (with a C compiler)' if backend == "auto"
+                                        else 'backend = "c"']
+        how = ("" if backend != "auto" else ", the C kernel: a C compiler is found" if runs == "c"
+               else ", NumPy: no C compiler found")
         return (f"these maps would take about {seconds:.0f} s of RK4 by the cost model of "
                 f"pendulab.limits (limit {WORK_BUDGET_SECONDS} s with backend "
-                f"{options.get('backend')!r}): ask for {', '.join(ways[:-1])} or {ways[-1]}")
+                f"{backend!r}{how}): ask for {', '.join(ways[:-1])} or {ways[-1]}")
     if product == "stability":
         points, methods = options.get("points"), options.get("methods")
         if not isinstance(points, int) or not isinstance(methods, list):

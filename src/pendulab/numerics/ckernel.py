@@ -76,6 +76,13 @@ def compiler_command():
     return shlex.split(text)
 
 
+def compiler_found():
+    """Whether the C compiler of :func:`compiler_command` is found here and runs (``--version``,
+    once per process): what the "auto" backend's cost is estimated from (C kernel or NumPy)."""
+    cmd = compiler_command()
+    return bool(cmd) and _identity(cmd) is not None
+
+
 def cache_dir():
     """The directory compiled kernels are cached in (see the module docstring)."""
     base = os.environ.get("PENDULAB_CACHE_DIR")

@@ -124,7 +124,11 @@ def check_options(options):
     if options["backend"] not in ("numpy", "c", "auto"):
         problems.append(f"backend must be numpy, c or auto, got {options['backend']!r}")
     if not problems:
-        work = limits.work_problem("experiments", options)
+        compiler = False
+        if options["backend"] == "auto":  # costed as what it will run (C where a compiler is)
+            from pendulab.numerics.ckernel import compiler_found
+            compiler = compiler_found()
+        work = limits.work_problem("experiments", options, compiler=compiler)
         if work:
             problems.append(work)
     if problems:
