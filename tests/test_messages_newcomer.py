@@ -99,3 +99,43 @@ def test_auto_without_a_compiler_is_costed_as_numpy(tmp_path, monkeypatch, capsy
     # the sweep command's estimate says the same
     line = _one_error(capsys, ["sweep", "--grid", "100", "--periods", "300"])
     assert "about 450 s" in line and "NumPy backend (no C compiler found)" in line
+
+
+# ---------------------------------------------------------------------------
+# the bessel product reports all its problems at once
+# ---------------------------------------------------------------------------
+
+def test_the_bessel_scene_reports_a_bad_option_and_the_work_of_the_others(tmp_path, capsys):
+    scene = tmp_path / "b.toml"
+    # nmax out of range; zeros x dps = 1e7 digits, ten times the work budget
+    scene.write_text('system = "variable-length"\n[products.bessel]\nnmax = 99\nzeros = 10000\n'
+                     'dps = 1000\npoints = 1\n', encoding="utf-8")
+    out = tmp_path / "out"
+    assert main(["build", str(scene), "--out", str(out)]) == 2
+    got = capsys.readouterr()
+    lines = got.err.splitlines()
+    assert got.out == "" and all(line.startswith("pendulab: error: ") for line in lines)
+    assert sum("products.bessel.nmax: must be an integer from 0 to 20, got 99" in x for x in lines) == 1
+    assert sum("products.bessel.points: must be an integer from 2 to 400, got 1" in x
+               for x in lines) == 1
+    assert sum("about 10000 zeros at dps = 1000" in x for x in lines) == 1
+    assert len(lines) == 3
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_the_bessel_product_called_directly_lists_every_problem():
+    from pendulab.errors import InputError
+    from pendulab.pipeline import Context
+    from pendulab.products import bessel
+    from pendulab.scene import parse_scene
+    scene = parse_scene({"system": "variable-length", "parameters": {"length": "L0 - v0*t"},
+                         "products": {"bessel": {}}}, path="s.toml")
+    options = dict(scene.products["bessel"], nmax=99, zeros=10000, dps=1000, start=3, count=10)
+    with pytest.raises(InputError) as info:
+        bessel.produce(Context(scene), options)
+    text = str(info.value)
+    assert "\n" not in text and len(info.value.problems) == 3, text
+    assert "nmax must be an integer from 0 to 20, got 99" in text
+    assert "about 10000 zeros at dps = 1000" in text
+    # a shortening string from j_2,3 has 2*3 - 1 = 5 quarter periods before L = 0 (002)
+    assert "count = 10 is more than the 5 quarter periods" in text

@@ -541,6 +541,30 @@ def experiments_seconds(options, compiler=False):
     return seconds
 
 
+def bessel_work_problems(options):
+    """The one-line problems of the bessel product's work (an empty list when it fits): the
+    zeros and the identities, each from its own options where they are ints (a bad nmax does
+    not hide the zeros' work)."""
+    z, c, st, dps = (options.get(k) for k in ("zeros", "count", "start", "dps"))
+    problems = []
+    need = max(z, c + max(st, 1) + 2) if _ints(z, c, st, dps) else 0
+    if need and need * dps > BESSEL_ZERO_WORK:
+        problems.append(f"about {need} zeros at dps = {dps} (zeros, or count + start + 2) is "
+                        f"more than {BESSEL_ZERO_WORK} digits in all (about a minute): ask for "
+                        "fewer or shorter numbers")
+    n, pts = options.get("nmax"), options.get("points")
+    if _ints(n, pts, dps) and (n + 1) * (pts + 9) * dps > BESSEL_IDENTITY_WORK:
+        problems.append(f"the identities for n = 0..{n} at {pts} points and dps = {dps} are "
+                        f"(nmax + 1) (points + 9) dps = {(n + 1) * (pts + 9) * dps} > "
+                        f"{BESSEL_IDENTITY_WORK} (about a minute): ask for fewer points or digits")
+    return problems
+
+
+def _ints(*values):
+    """Whether every one of ``values`` is an int (not a bool): an option checked in range."""
+    return all(isinstance(v, int) and not isinstance(v, bool) for v in values)
+
+
 def work_problem(product, options, what="the points and ratios asked", drive_period=None,
                  compiler=False):
     """A one-line problem when ``options`` of ``product`` would pass :data:`WORK_BUDGET_SECONDS`
@@ -560,21 +584,7 @@ def work_problem(product, options, what="the points and ratios asked", drive_per
                 f"{MOTION_MAX_PERIODS} (about a minute of DOP853 at rtol 1e-13): ask for a "
                 "shorter t_end")
     if product == "bessel":
-        z, c, st, dps = (options.get(k) for k in ("zeros", "count", "start", "dps"))
-        if not all(isinstance(v, int) for v in (z, c, st, dps)):
-            return None
-        problems = []
-        need = max(z, c + max(st, 1) + 2)
-        if need * dps > BESSEL_ZERO_WORK:
-            problems.append(f"about {need} zeros at dps = {dps} (zeros, or count + start + 2) is "
-                            f"more than {BESSEL_ZERO_WORK} digits in all (about a minute): ask for "
-                            "fewer or shorter numbers")
-        n, pts = options.get("nmax"), options.get("points")
-        if isinstance(n, int) and isinstance(pts, int) and (n + 1) * (pts + 9) * dps > BESSEL_IDENTITY_WORK:
-            problems.append(f"the identities for n = 0..{n} at {pts} points and dps = {dps} are "
-                            f"(nmax + 1) (points + 9) dps = {(n + 1) * (pts + 9) * dps} > "
-                            f"{BESSEL_IDENTITY_WORK} (about a minute): ask for fewer points or digits")
-        return "; ".join(problems) or None
+        return "; ".join(bessel_work_problems(options)) or None
     if product == "experiments":
         try:
             seconds = experiments_seconds(options, compiler)

@@ -170,7 +170,7 @@ def validate_options(module, given, where, problems):
     from pendulab import limits
     spec = getattr(module, "OPTIONS", {})
     product = module.__name__.rsplit(".", 1)[-1]
-    options = {}
+    options, refused = {}, set()
     for key in sorted(set(given) - set(spec)):
         problems.add(f"{where}.{key}", f"unknown option (known: {', '.join(sorted(spec)) or 'none'})")
     for key, (kind, default, _help) in sorted(spec.items()):
@@ -181,12 +181,21 @@ def validate_options(module, given, where, problems):
                     limits.check(f"{product}.{key}", options[key], label="")
             except (TypeError, ValueError) as exc:
                 problems.add(f"{where}.{key}", str(exc))
+                refused.add(key)
         elif default is None:
             problems.add(f"{where}.{key}", "missing (this product needs it)")
+            refused.add(key)
         else:
             options[key] = default
     checker = getattr(module, "check_options", None)
-    if checker is not None and set(options) == set(spec) and not any(
+    if checker is not None and getattr(module, "REPORTS_ALL", False):
+        # the product reports the rest of its problems beside those found here
+        try:
+            checker(options, reported=refused)
+        except InputError as exc:
+            for problem in getattr(exc, "problems", [str(exc)]):
+                problems.add(where, problem)
+    elif checker is not None and set(options) == set(spec) and not any(
             (e.key or "").startswith(where) for e in problems.items):
         # the product's own checks of values and of the options together, before any work
         try:
