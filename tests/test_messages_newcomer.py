@@ -139,3 +139,45 @@ def test_the_bessel_product_called_directly_lists_every_problem():
     assert "about 10000 zeros at dps = 1000" in text
     # a shortening string from j_2,3 has 2*3 - 1 = 5 quarter periods before L = 0 (002)
     assert "count = 10 is more than the 5 quarter periods" in text
+
+
+# ---------------------------------------------------------------------------
+# a Hill drive with the mean criterion: pruning is what needs Mathieu's equation
+# ---------------------------------------------------------------------------
+
+HILL = "a*cos(omega*t) + a*cos(2*omega*t)"
+SMALL_SWEEP = ["sweep", "--drive", HILL, "--grid", "2", "--periods", "1", "--steps-per-period",
+               "4", "--criterion", "mean", "--processes", "1", "--quiet"]
+
+
+def test_sweep_prune_with_a_hill_drive_names_the_option_not_the_floquet_criterion(capsys):
+    line = _one_error(capsys, SMALL_SWEEP + ["--prune"])
+    assert "--prune" in line and "Hill" in line and "leave out --prune" in line
+    assert "floquet criterion" not in line
+    # the mean criterion itself takes the drive
+    assert main(SMALL_SWEEP + ["--json"]) == 0
+    assert '"count"' in capsys.readouterr().out
+
+
+def test_pruned_sweep_of_a_hill_drive_says_pruning_needs_mathieu():
+    from pendulab.errors import InputError
+    from pendulab.numerics import sweep as S
+    spec = S.make_spec(S.SystemSpec("rod", drive=HILL), 2, periods=1, steps_per_period=4)
+    with pytest.raises(InputError, match="pruning needs Mathieu's equation") as info:
+        S.pruned_sweep(spec, executor="serial", quiet=True)
+    assert "floquet criterion" not in str(info.value)
+
+
+def test_an_experiments_scene_with_a_hill_drive_and_prune_is_told_to_drop_prune(tmp_path, capsys):
+    scene = tmp_path / "hill.toml"
+    text = (f'system = "kapitza"\nparameters = {{drive = "{HILL}"}}\n[products.experiments]\n'
+            'criteria = ["mean"]\nmaps = ["text"]\ngrid = 2\nperiods = 1\nsteps_per_period = 4\n'
+            'fig5 = false\nfig2 = false\nfigures = false\n')
+    scene.write_text(text + "prune = true\n", encoding="utf-8")
+    out = tmp_path / "out"
+    line = _one_error(capsys, ["build", str(scene), "--out", str(out)])
+    assert "products.experiments: prune:" in line and "set prune = false" in line
+    assert "floquet criterion" not in line
+    assert not out.exists() or not any(out.iterdir())
+    scene.write_text(text + "prune = false\n", encoding="utf-8")
+    assert main(["build", str(scene), "--out", str(out)]) == 0, capsys.readouterr().err

@@ -830,6 +830,11 @@ def prune_plan(spec, margin=MARGIN, amplitude=None):
 
     if spec.criterion not in ("mean", "mean-abs", "bounded"):
         raise InputError("pruning applies to the criteria mean, mean-abs and bounded")
+    kind = _stages(spec.system)[1].kind
+    if kind != "mathieu":
+        raise InputError("pruning needs Mathieu's equation (the Floquet exponents of (theta0, "
+                         f"theta1) choose the cells integrated), and the drive gives a {kind} "
+                         "equation, not Mathieu's: sweep without pruning")
     margin = _count(margin, "margin", 0, 1000)
     n_c, n_w, n_a = spec.shape
     F = floquet_verdict(spec, np.arange(n_w * n_a)).reshape(n_w, n_a)

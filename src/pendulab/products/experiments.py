@@ -154,8 +154,9 @@ def _prepared(ctx, options):
         mathieu = _sweep()._stages(spec)[1].kind == "mathieu"
         if not mathieu:
             # a Hill drive: the Floquet verdict is the monodromy matrix's; eq. 28, the exact
-            # limits of pendulab.analyses.stability and the series of Fig. 5 are Mathieu's
-            wanted = [k for k in ("fig5", "fig2") if options[k]]
+            # limits of pendulab.analyses.stability and the series of Fig. 5 are Mathieu's, and
+            # so are the exponents by which pruning chooses the cells it integrates
+            wanted = [k for k in ("prune", "fig5", "fig2") if options[k]]
             if wanted:
                 raise InputError(f"{' and '.join(wanted)}: the drive gives a Hill equation, and "
                                  f"{'they need' if len(wanted) > 1 else 'it needs'} Mathieu's "
