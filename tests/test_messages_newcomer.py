@@ -181,3 +181,26 @@ def test_an_experiments_scene_with_a_hill_drive_and_prune_is_told_to_drop_prune(
     assert not out.exists() or not any(out.iterdir())
     scene.write_text(text + "prune = false\n", encoding="utf-8")
     assert main(["build", str(scene), "--out", str(out)]) == 0, capsys.readouterr().err
+
+
+# ---------------------------------------------------------------------------
+# a scene refused for its name is named as the user gave it
+# ---------------------------------------------------------------------------
+
+def test_a_scene_refused_for_its_name_is_named_as_given(tmp_path, monkeypatch, capsys):
+    scene = 'name = "pivot"\nsystem = "kapitza"\n[products.equations]\n'
+    (tmp_path / "one").mkdir()
+    (tmp_path / "deep" / "two").mkdir(parents=True)
+    (tmp_path / "one" / "a.toml").write_text(scene, encoding="utf-8")
+    (tmp_path / "deep" / "two" / "b.toml").write_text(scene, encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    assert main(["build", "one/a.toml", "--out", "out"]) == 0
+    capsys.readouterr()
+    before = sorted(p.name for p in (tmp_path / "out" / "pivot").iterdir())
+    line = _one_error(capsys, ["build", "deep/two/b.toml", "--out", "out"])
+    # the file as given (relative to the working directory), never its last two parts alone
+    assert line.startswith("pendulab: error: deep/two/b.toml: name: out/pivot holds")
+    assert "two/b.toml" not in line.replace("deep/two/b.toml", "")
+    # the owner as its manifest records it, said to be that record
+    assert "recorded as one/a.toml in its manifest.json" in line
+    assert sorted(p.name for p in (tmp_path / "out" / "pivot").iterdir()) == before
