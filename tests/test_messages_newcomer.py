@@ -204,3 +204,48 @@ def test_a_scene_refused_for_its_name_is_named_as_given(tmp_path, monkeypatch, c
     # the owner as its manifest records it, said to be that record
     assert "recorded as one/a.toml in its manifest.json" in line
     assert sorted(p.name for p in (tmp_path / "out" / "pivot").iterdir()) == before
+
+
+# ---------------------------------------------------------------------------
+# the drive's help names the symbol a user writes; the Hill drive prints as text
+# ---------------------------------------------------------------------------
+
+def _drive_helps():
+    """(command, help text) of every --drive option of the command line (derive and latex too)."""
+    from pendulab.cli import make_parser
+    from test_cli_limits import _commands
+    found = []
+    for command, parser in _commands(make_parser()):
+        for action in parser._actions:
+            if "--drive" in action.option_strings:
+                found.append((command, " ".join(parser._get_formatter()._expand_help(action).split())
+                              if action.help else ""))
+    return found
+
+
+def test_every_drive_help_speaks_of_omega_as_written():
+    helps = dict(_drive_helps())
+    # derive, latex eom, sweep, simulate, animate kapitza at least
+    assert {"derive kapitza", "latex eom", "sweep", "simulate", "animate kapitza"} <= set(helps)
+    for command, text in helps.items():
+        assert "Omega" not in text, (command, text)
+        assert "omega" in text, (command, text)
+
+
+def test_derive_and_latex_help_have_no_omega_the_user_cannot_write():
+    from pendulab.cli import make_parser
+    from test_cli_limits import _commands
+    for command, parser in _commands(make_parser()):
+        if command.startswith(("derive", "latex")):
+            assert "Omega" not in parser.format_help(), command
+
+
+def test_a_hill_drive_prints_as_readable_text(capsys):
+    assert main(["derive", "kapitza", "--drive", HILL]) == 0
+    out = capsys.readouterr().out
+    fourier = out[out.index("fourier:"):].splitlines()
+    # the coefficients of cos(2 k tau): the drive's harmonics omega and 2 omega give k = 1, 2
+    assert [line.split(":")[0].strip() for line in fourier[1:4]] == ["0", "2", "4"]
+    assert all("cos: " in line and ", sin: " in line for line in fourier[1:4])
+    assert not any(ch in out for ch in "{}[]") and "('" not in out  # no dict, list, tuple repr
+    assert "\nnote: \n" not in out and not any(line.endswith(": ") for line in out.splitlines())

@@ -77,10 +77,11 @@ def compiler_command():
 
 
 def compiler_found():
-    """Whether the C compiler of :func:`compiler_command` is found here and runs (``--version``,
-    once per process): what the "auto" backend's cost is estimated from (C kernel or NumPy)."""
+    """The path of the C compiler :func:`compiler_command` names where it is found on this
+    machine (on the PATH, or as given), else None: whether the "auto" backend can expect C
+    (a found compiler may still fail; :func:`available` compiles a probe to know)."""
     cmd = compiler_command()
-    return bool(cmd) and _identity(cmd) is not None
+    return shutil.which(cmd[0]) if cmd else None
 
 
 def cache_dir():

@@ -127,7 +127,7 @@ def check_options(options):
         compiler = False
         if options["backend"] == "auto":  # costed as what it will run (C where a compiler is)
             from pendulab.numerics.ckernel import compiler_found
-            compiler = compiler_found()
+            compiler = compiler_found() is not None
         work = limits.work_problem("experiments", options, compiler=compiler)
         if work:
             problems.append(work)
