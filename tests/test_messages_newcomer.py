@@ -249,3 +249,79 @@ def test_a_hill_drive_prints_as_readable_text(capsys):
     assert all("cos: " in line and ", sin: " in line for line in fourier[1:4])
     assert not any(ch in out for ch in "{}[]") and "('" not in out  # no dict, list, tuple repr
     assert "\nnote: \n" not in out and not any(line.endswith(": ") for line in out.splitlines())
+
+
+# ---------------------------------------------------------------------------
+# a drive's free symbols: only the user's own, and what a drive may use
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("argv", [
+    ["sweep", "--grid", "2"],
+    ["simulate", "--a-over-l", "0.1", "--w0-over-w", "0.1"],
+])
+@pytest.mark.parametrize("drive, named", [
+    ("a*cos(omega*t)+b*cos(2*omega*t)", "b"),             # l enters only through b/l
+    ("a*cos(omega*t)+g*cos(2*omega*t)", "g"),             # the groups turn g into omega
+    ("a*cos(omega*t)+b*cos(2*omega*t)+l*cos(3*omega*t)", "b, l"),  # l written by the user
+])
+def test_a_drive_names_only_the_users_free_symbols(argv, drive, named, capsys):
+    line = _one_error(capsys, argv + ["--drive", drive])
+    assert f"the drive leaves {named} without a value:" in line
+    assert "a drive may use only t, a and omega" in line
+    # the message is the command's, not a sweep's, and names no symbol the user did not write
+    assert "sweep" not in line and "a_over_l" not in line
+    if "l*cos" not in drive:
+        assert ", l " not in line and " l without" not in line
+
+
+# ---------------------------------------------------------------------------
+# stability --inertia-ratio: the body is said, not None
+# ---------------------------------------------------------------------------
+
+def test_stability_with_an_inertia_ratio_says_what_the_body_is(capsys):
+    assert main(["stability", "--ratio", "0.1", "--inertia-ratio", "4/3", "--method", "eq12"]) == 0
+    out = capsys.readouterr().out
+    assert "body: custom, I/(m l^2) = 4/3\n" in out and "None" not in out
+
+
+# ---------------------------------------------------------------------------
+# quarter periods: with nothing (or one thing) to compare, no sweeping claim
+# ---------------------------------------------------------------------------
+
+def test_one_quarter_period_claims_nothing_it_did_not_compare(capsys):
+    assert main(["bessel", "quarter-periods", "--count", "1", "--shortening", "--dps", "10"]) == 0
+    out = capsys.readouterr().out
+    assert "outward (none)" in out and " -" not in out.replace("--count", "")
+    assert "not tested" in out and "holds" not in out
+    # growing, one k: one comparison (inward 0 against outward 0), said as such
+    assert main(["bessel", "quarter-periods", "--count", "1", "--dps", "10"]) == 0
+    out = capsys.readouterr().out
+    assert "holds for the one comparison shown" in out and "every k" not in out
+    assert main(["bessel", "quarter-periods", "--count", "2", "--dps", "10"]) == 0
+    assert "holds for every k shown" in capsys.readouterr().out
+
+
+# ---------------------------------------------------------------------------
+# simulate --reference with huge states: one line, no SciPy or NumPy warnings
+# ---------------------------------------------------------------------------
+
+def _stderr_lines(run):
+    """stderr without the one-line notice of a machine where no C kernel can be built."""
+    return [line for line in run.stderr.splitlines()
+            if not (line.startswith("pendulab: notice: C kernel") and "NumPy path" in line)]
+
+
+@pytest.mark.parametrize("extra, fragment", [
+    (["--theta-init", "1e300"], "--theta-init must be a number from -10000 to 10000, got '1e300'"),
+    (["--omega-init", "-1e300", "--theta-init", "1e300"], "--omega-init must be a number"),
+    # the linear equation at omega0/omega = 1000 grows like exp(2000 tau): both overflow
+    (["--linear", "--w0-over-w", "1000", "--steps-per-period", "10000"], "overflowed"),
+])
+def test_simulate_reference_with_huge_states_answers_in_one_line(extra, fragment):
+    argv = ["simulate", "--a-over-l", "0", "--w0-over-w", "0", "--periods", "1", "--reference"]
+    run = subprocess.run([sys.executable, "-m", "pendulab", *argv, *extra], capture_output=True,
+                         text=True, timeout=120)
+    err = _stderr_lines(run)
+    assert run.returncode == 2 and run.stdout == "", run.stderr
+    assert len(err) == 1 and err[0].startswith("pendulab: error: ") and fragment in err[0], err
+    assert "Warning" not in run.stderr and "Traceback" not in run.stderr
