@@ -325,3 +325,19 @@ def test_simulate_reference_with_huge_states_answers_in_one_line(extra, fragment
     assert run.returncode == 2 and run.stdout == "", run.stderr
     assert len(err) == 1 and err[0].startswith("pendulab: error: ") and fragment in err[0], err
     assert "Warning" not in run.stderr and "Traceback" not in run.stderr
+
+
+def test_a_name_taken_from_the_file_name_says_so(tmp_path, monkeypatch, capsys):
+    (tmp_path / "lessons").mkdir()
+    (tmp_path / "lessons" / "My Pivot.toml").write_text('system = "kapitza"\n[products.equations]\n',
+                                                         encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    line = _one_error(capsys, ["build", "lessons/My Pivot.toml", "--out", "out"])
+    assert line.startswith("pendulab: error: lessons/My Pivot.toml: name: must be")
+    assert "got 'My Pivot' (from the file name" in line and 'name = "..."' in line
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+    # a name written in the scene is not said to come from the file name
+    (tmp_path / "lessons" / "ok.toml").write_text('name = "My Pivot"\nsystem = "kapitza"\n'
+                                                  '[products.equations]\n', encoding="utf-8")
+    line = _one_error(capsys, ["build", "lessons/ok.toml", "--out", "out"])
+    assert "got 'My Pivot'" in line and "file name" not in line

@@ -225,8 +225,10 @@ def parse_scene(data, path="<scene>"):
         system = None
     name = data.get("name", Path(path).stem)
     if not isinstance(name, str) or not _SCENE_NAME.match(name):
+        whence = "" if "name" in data else (" (from the file name, as the scene gives no "
+                                            "name: give one with name = \"...\")")
         problems.add("name", "must be 1-64 characters of a-z, 0-9, '-' and '_', starting "
-                             f"with a letter or digit; got {name!r}")
+                             f"with a letter or digit; got {name!r}{whence}")
     description = data.get("description", "")
     if not isinstance(description, str):
         problems.add("description", "must be a string")
