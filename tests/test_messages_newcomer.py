@@ -41,11 +41,14 @@ UNICODE_THREES = {
 @pytest.mark.parametrize("kind", sorted(UNICODE_THREES))
 @pytest.mark.parametrize("command, option, name", NUMERIC, ids=lambda v: str(v))
 def test_digits_of_other_scripts_are_refused_by_every_numeric_option(command, option, name,
-                                                                    kind, capsys):
+                                                                    kind, capsys, tmp_path,
+                                                                    monkeypatch):
+    monkeypatch.chdir(tmp_path)  # the animate commands name a file relative to it
     text = UNICODE_THREES[kind]
     line = _one_error(capsys, _argv(command, option, text))
     assert line.startswith(f"pendulab: error: {option} must be"), line
     assert repr(text) in line and "ASCII" in line
+    assert list(tmp_path.iterdir()) == []  # nothing written (the animation's --out)
 
 
 def test_the_same_options_accept_ascii_digits(capsys):
