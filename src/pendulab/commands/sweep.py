@@ -130,12 +130,11 @@ def run(args):
                                     args.criterion, drive=args.drive is not None)
         if work:
             problems.add(work)
-    problems.raise_any()
-    if args.prune and S.stages(system)[1].kind != "mathieu":
-        from pendulab.errors import InputError
-        raise InputError("--prune: the drive gives a Hill equation, and pruning needs Mathieu's "
+        if args.prune and S.stages(system)[1].kind != "mathieu":
+            problems.add("--prune: the drive gives a Hill equation, and pruning needs Mathieu's "
                          "(theta0, theta1) (its Floquet exponents choose the cells integrated): "
                          "leave out --prune")
+    problems.raise_any()
     spec = S.make_spec(system, grid, theta_init=th, omega_init=om, periods=periods,
                        steps_per_period=steps, criterion=args.criterion, linear=args.linear)
     executor = "auto" if workers is None else ("serial" if workers == 1 else "processes")
