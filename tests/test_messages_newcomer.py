@@ -157,6 +157,10 @@ def test_sweep_prune_with_a_hill_drive_names_the_option_not_the_floquet_criterio
     line = _one_error(capsys, SMALL_SWEEP + ["--prune"])
     assert "--prune" in line and "Hill" in line and "leave out --prune" in line
     assert "floquet criterion" not in line
+    # with the work of the options refused too: both in the one line
+    line = _one_error(capsys, ["sweep", "--drive", HILL, "--prune", "--grid", "400",
+                               "--periods", "100000"])
+    assert "RK4 steps would take about" in line and "leave out --prune" in line
     # the mean criterion itself takes the drive
     assert main(SMALL_SWEEP + ["--json"]) == 0
     assert '"count"' in capsys.readouterr().out
