@@ -357,8 +357,8 @@ def test_a_scene_of_the_same_name_from_another_file_is_refused_unless_replace(tm
     assert main(["build", str(two / "b.toml"), "--out", str(out), "--force"]) == 2
     err = capsys.readouterr().err.splitlines()
     assert err == [f"pendulab: error: {two / 'b.toml'}: name: {out / 'pivot'} holds the outputs of "
-                   "the scene file one/a.toml, not of two/b.toml; rename the scene or give "
-                   "--replace to replace them"]
+                   "another scene file, recorded as one/a.toml in its manifest.json; rename this "
+                   "scene or give --replace to replace them"]
     assert {p.name: p.read_bytes() for p in (out / "pivot").iterdir()} == before
     assert main(["build", str(two / "b.toml"), "--out", str(out), "--replace"]) == 0
     manifest = json.loads((out / "pivot" / "manifest.json").read_text())

@@ -149,9 +149,12 @@ def _check_claim(scene, directory, source, replace):
         return
     owner = data.get("source")
     if owner is not None and owner != source:
+        # the scene is named as the user gave it (SceneError's prefix); the owner only as its
+        # manifest records it ('<directory name>/<file name>', no path of the machine)
         raise SceneError(scene.path, "name",
-                         f"{directory} holds the outputs of the scene file {owner}, not of {source}; "
-                         "rename the scene or give --replace to replace them")
+                         f"{directory} holds the outputs of another scene file, recorded as "
+                         f"{owner} in its {MANIFEST}; rename this scene or give --replace to "
+                         "replace them")
 
 
 def build(target, out_root="generated", force=False, log=print, replace=False, jobs=None):

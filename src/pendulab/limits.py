@@ -240,7 +240,7 @@ def option(name):
 def parse(name, text, label=None):
     """The command-line text ``text`` read as option ``name`` and checked (:func:`check`).
 
-    Integers are read with ``int``; numbers as decimals or fractions ("1e-3", "-1/5"),
+    Integers are ASCII digits with an optional sign; numbers decimals or fractions ("1e-3", "-1/5"),
     exactly, and returned as floats once in range.  A text that is not such a number is
     refused with the range and the text as given:
 
@@ -255,11 +255,15 @@ def parse(name, text, label=None):
     if not isinstance(text, str):
         return check(name, text, label)
     if kind is int:
-        try:
-            value = int(text.strip())
-        except ValueError:
-            value = text
-        return check(name, value, label)
+        # int() would also read other scripts' digits ("\u0663", fullwidth "\uff13"):
+        # ASCII digits only, as fraction() does for numbers
+        value = text
+        if _INTEGER_TEXT.match(text.strip()):
+            try:
+                value = int(text.strip())
+            except ValueError:  # more digits than Python converts (sys.set_int_max_str_digits)
+                pass
+        return _ascii_hint(name, value, label, text)
     if kind in (float, "positive"):
         try:
             value = fraction(text)
@@ -268,9 +272,26 @@ def parse(name, text, label=None):
         try:
             check(name, value, label)
         except InputError:
-            check(name, text, label)  # the same message, showing the text as given
+            # the same message, showing the text as given
+            _ascii_hint(name, text, label, text)
         return float(value)
-    return check(name, text, label)
+    return _ascii_hint(name, text, label, text)
+
+
+_INTEGER_TEXT = re.compile(r"[+-]?[0-9]+\Z")
+
+
+def _ascii_hint(name, value, label, text):
+    """:func:`check` of ``value``; when it is refused and ``text`` is not ASCII, the message
+    says how numbers are written (other scripts' digits are not read)."""
+    try:
+        return check(name, value, label)
+    except InputError as exc:
+        if text.isascii():
+            raise
+        how = ("an integer is written with the ASCII digits 0-9" if LIMITS[name][0] is int
+               else "a number is written in ASCII: the digits 0-9, '-', '.', 'e', '/'")
+        raise InputError(f"{exc} ({how})") from None
 
 
 def argument(parser, flag, name, text=None, **kwargs):
@@ -493,9 +514,18 @@ BESSEL_IDENTITY_WORK = 4_000_000
 RK4_SECONDS = {"numpy": 1.5e-6, "c": 30e-9}
 
 
-def experiments_seconds(options):
-    """Estimated seconds of the experiments product's trajectories (maps, first experiment, Figs. 5, 2)."""
-    per = RK4_SECONDS["c" if options.get("backend") == "c" else "numpy"]
+def backend_run(backend, compiler):
+    """The RK4 backend a sweep asked for ``backend`` runs: "c" or "numpy"; "auto" runs the C
+    kernel where a C compiler is found (``compiler``: the caller's look-up, e.g.
+    :func:`pendulab.numerics.ckernel.compiler_found`, not made here: this module imports no
+    numerics)."""
+    return "c" if backend == "c" or (backend == "auto" and compiler) else "numpy"
+
+
+def experiments_seconds(options, compiler=False):
+    """Estimated seconds of the experiments product's trajectories (maps, first experiment,
+    Figs. 5, 2); ``compiler``: whether a C compiler was found (the cost of backend "auto")."""
+    per = RK4_SECONDS[backend_run(options.get("backend"), compiler)]
     steps = options["periods"] * options["steps_per_period"]
     nonlinear = [c for c in options["criteria"] if c != "floquet"]
     cells = 0
@@ -511,8 +541,34 @@ def experiments_seconds(options):
     return seconds
 
 
-def work_problem(product, options, what="the points and ratios asked", drive_period=None):
-    """A one-line problem when ``options`` of ``product`` would pass :data:`WORK_BUDGET_SECONDS`."""
+def bessel_work_problems(options):
+    """The one-line problems of the bessel product's work (an empty list when it fits): the
+    zeros and the identities, each from its own options where they are ints (a bad nmax does
+    not hide the zeros' work)."""
+    z, c, st, dps = (options.get(k) for k in ("zeros", "count", "start", "dps"))
+    problems = []
+    need = max(z, c + max(st, 1) + 2) if _ints(z, c, st, dps) else 0
+    if need and need * dps > BESSEL_ZERO_WORK:
+        problems.append(f"about {need} zeros at dps = {dps} (zeros, or count + start + 2) is "
+                        f"more than {BESSEL_ZERO_WORK} digits in all (about a minute): ask for "
+                        "fewer or shorter numbers")
+    n, pts = options.get("nmax"), options.get("points")
+    if _ints(n, pts, dps) and (n + 1) * (pts + 9) * dps > BESSEL_IDENTITY_WORK:
+        problems.append(f"the identities for n = 0..{n} at {pts} points and dps = {dps} are "
+                        f"(nmax + 1) (points + 9) dps = {(n + 1) * (pts + 9) * dps} > "
+                        f"{BESSEL_IDENTITY_WORK} (about a minute): ask for fewer points or digits")
+    return problems
+
+
+def _ints(*values):
+    """Whether every one of ``values`` is an int (not a bool): an option checked in range."""
+    return all(isinstance(v, int) and not isinstance(v, bool) for v in values)
+
+
+def work_problem(product, options, what="the points and ratios asked", drive_period=None,
+                 compiler=False):
+    """A one-line problem when ``options`` of ``product`` would pass :data:`WORK_BUDGET_SECONDS`
+    (``compiler``: whether a C compiler was found, for the experiments' backend "auto")."""
     import math
     if product == "motion":
         try:
@@ -528,34 +584,25 @@ def work_problem(product, options, what="the points and ratios asked", drive_per
                 f"{MOTION_MAX_PERIODS} (about a minute of DOP853 at rtol 1e-13): ask for a "
                 "shorter t_end")
     if product == "bessel":
-        z, c, st, dps = (options.get(k) for k in ("zeros", "count", "start", "dps"))
-        if not all(isinstance(v, int) for v in (z, c, st, dps)):
-            return None
-        problems = []
-        need = max(z, c + max(st, 1) + 2)
-        if need * dps > BESSEL_ZERO_WORK:
-            problems.append(f"about {need} zeros at dps = {dps} (zeros, or count + start + 2) is "
-                            f"more than {BESSEL_ZERO_WORK} digits in all (about a minute): ask for "
-                            "fewer or shorter numbers")
-        n, pts = options.get("nmax"), options.get("points")
-        if isinstance(n, int) and isinstance(pts, int) and (n + 1) * (pts + 9) * dps > BESSEL_IDENTITY_WORK:
-            problems.append(f"the identities for n = 0..{n} at {pts} points and dps = {dps} are "
-                            f"(nmax + 1) (points + 9) dps = {(n + 1) * (pts + 9) * dps} > "
-                            f"{BESSEL_IDENTITY_WORK} (about a minute): ask for fewer points or digits")
-        return "; ".join(problems) or None
+        return "; ".join(bessel_work_problems(options)) or None
     if product == "experiments":
         try:
-            seconds = experiments_seconds(options)
+            seconds = experiments_seconds(options, compiler)
         except (TypeError, KeyError):
             return None
         if seconds <= WORK_BUDGET_SECONDS:
             return None
+        backend = options.get("backend")
+        runs = backend_run(backend, compiler)
         ways = ["a smaller grid", "fewer periods or steps", "fewer maps"]
         ways += [] if options.get("prune") else ["prune = true"]
-        ways += [] if options.get("backend") == "c" else ['backend = "c"']
+        ways += [] if runs == "c" else ['backend = "c" (with a C compiler)' if backend == "auto"
+                                        else 'backend = "c"']
+        how = ("" if backend != "auto" else ", the C kernel: a C compiler is found" if runs == "c"
+               else ", NumPy: no C compiler found")
         return (f"these maps would take about {seconds:.0f} s of RK4 by the cost model of "
                 f"pendulab.limits (limit {WORK_BUDGET_SECONDS} s with backend "
-                f"{options.get('backend')!r}): ask for {', '.join(ways[:-1])} or {ways[-1]}")
+                f"{backend!r}{how}): ask for {', '.join(ways[:-1])} or {ways[-1]}")
     if product == "stability":
         points, methods = options.get("points"), options.get("methods")
         if not isinstance(points, int) or not isinstance(methods, list):

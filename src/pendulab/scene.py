@@ -174,7 +174,7 @@ def validate_options(module, given, where, problems, system=None):
     if per_system is not None and system is not None:
         spec = per_system(system)
     product = module.__name__.rsplit(".", 1)[-1]
-    options = {}
+    options, refused = {}, set()
     for key in sorted(set(given) - set(spec)):
         other = " for a " + system + " scene" if key in getattr(module, "OPTIONS", {}) else ""
         problems.add(f"{where}.{key}",
@@ -187,12 +187,21 @@ def validate_options(module, given, where, problems, system=None):
                     limits.check(f"{product}.{key}", options[key], label="")
             except (TypeError, ValueError) as exc:
                 problems.add(f"{where}.{key}", str(exc))
+                refused.add(key)
         elif default is None:
             problems.add(f"{where}.{key}", "missing (this product needs it)")
+            refused.add(key)
         else:
             options[key] = default
     checker = getattr(module, "check_options", None)
-    if checker is not None and set(options) == set(spec) and not any(
+    if checker is not None and getattr(module, "REPORTS_ALL", False):
+        # the product reports the rest of its problems beside those found here
+        try:
+            checker(options, reported=refused)
+        except InputError as exc:
+            for problem in getattr(exc, "problems", [str(exc)]):
+                problems.add(where, problem)
+    elif checker is not None and set(options) == set(spec) and not any(
             (e.key or "").startswith(where) for e in problems.items):
         # the product's own checks of values and of the options together, before any work
         try:
@@ -222,8 +231,10 @@ def parse_scene(data, path="<scene>"):
         system = None
     name = data.get("name", Path(path).stem)
     if not isinstance(name, str) or not _SCENE_NAME.match(name):
+        whence = "" if "name" in data else (" (from the file name, as the scene gives no "
+                                            "name: give one with name = \"...\")")
         problems.add("name", "must be 1-64 characters of a-z, 0-9, '-' and '_', starting "
-                             f"with a letter or digit; got {name!r}")
+                             f"with a letter or digit; got {name!r}{whence}")
     description = data.get("description", "")
     if not isinstance(description, str):
         problems.add("description", "must be a string")

@@ -128,7 +128,10 @@ def run_quarter(args):
         a = q.inward[k] if k < len(q.inward) else "(none)"
         b = q.outward[k] if k < len(q.outward) else "(none)"
         print(f"{k}: inward {a}   outward {b}")
-    verdict = {True: "holds for every k shown",
+    compared = len(q.margin_after) + len(q.margin_before)
+    verdict = {True: "holds for every k shown" if compared > 1 else
+               "holds for the one comparison shown (an inward swing against the outward one "
+               "after it; ask for a larger --count for more)",
                False: "does not hold: an outward swing outlasts an inward one",
                None: "not tested: no outward swing beside an inward one among those shown "
                      "(ask for a larger --count)"}[q.claim_holds]

@@ -18,8 +18,10 @@ def add_parser(sub):
     k.add_argument("--inertia", metavar="EXPR", help="moment of inertia I about the pivot, "
                    "I >= m l^2 (with --body explicit; default: the symbol I)")
     k.add_argument("--drive", metavar="EXPR", default="a*cos(omega*t)",
-                   help="pivot height y0(t); its fundamental frequency Omega sets tau = Omega t/2 "
-                        f"(at most {MAX_HARMONICS} harmonics)")
+                   help="pivot height y0(t), periodic in t, with amplitude a and frequency "
+                        "omega; its fundamental frequency w (omega for a*cos(omega*t), 2*omega "
+                        f"for a*cos(omega*t)**2) sets tau = w t/2 (at most {MAX_HARMONICS} "
+                        "harmonics)")
     k.add_argument("--angle", choices=("up", "down"), default="up",
                    help="measure theta from the upward (source) or downward vertical")
     _formats(k)
@@ -110,5 +112,7 @@ def _print_text(doc, indent=""):
             print(f"{indent}{key}: cos: {value[0]}, sin: {value[1]}")
         elif isinstance(value, (list, tuple)):
             print(f"{indent}{key}: {', '.join(map(str, value))}")
+        elif value == "":  # nothing to say (a Mathieu drive's note)
+            continue
         else:
             print(f"{indent}{key}: {value}")

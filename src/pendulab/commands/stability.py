@@ -74,6 +74,7 @@ def run(args):
     else:
         for key in ("method", "body", "inertia_ratio", "ratio", "lower", "upper"):
             if key == "body" and record[key] is None:  # --inertia-ratio: no named body
+                print(f"body: custom, I/(m l^2) = {args.inertia_ratio.strip()}")
                 continue
             print(f"{key}: {_format(record[key]) if key in ('lower', 'upper') else record[key]}")
         if note:

@@ -55,9 +55,10 @@ def with_drive(args, system, problems):
 
 
 def backend_estimate():
-    """"c" when a C compiler is found (the "auto" backend then builds the C kernel), else "numpy"."""
-    from pendulab.numerics.ckernel import compiler_command
-    return "c" if compiler_command() else "numpy"
+    """"c" when the C compiler is found on this machine (the "auto" backend then builds the C
+    kernel), else "numpy" (the cost model then takes the NumPy path's speed)."""
+    from pendulab.numerics.ckernel import compiler_found
+    return "c" if compiler_found() else "numpy"
 
 
 def add_parser(sub):
@@ -137,6 +138,10 @@ def run(args):
                                     args.criterion, drive=args.drive is not None)
         if work:
             problems.add(work)
+        if args.prune and S.stages(system)[1].kind != "mathieu":
+            problems.add("--prune: the drive gives a Hill equation, and pruning needs Mathieu's "
+                         "(theta0, theta1) (its Floquet exponents choose the cells integrated): "
+                         "leave out --prune")
     problems.raise_any()
     spec = S.make_spec(system, grid, theta_init=th, omega_init=om, periods=periods,
                        steps_per_period=steps, criterion=args.criterion, linear=args.linear)

@@ -162,13 +162,18 @@ def _param_columns(spec, fos):
         # name what the user wrote (b), not the symbols the groups bring in with it (l)
         from pendulab.exprs import parse
         written = {str(x) for x in parse(spec.drive).free_symbols}
-        extra = [n for n in extra if n in written] or extra
+        # a symbol of the drive beyond t, a, omega is the cause, even where the groups turn it
+        # into another (g*cos(2*omega*t) leaves omega, not g, among the parameters)
+        extra = (sorted(written - {"t", "a", "omega"}) or [n for n in extra if n in written]
+                 or extra)
     if extra:
-        raise InputError(f"the sweep sets a_over_l and w0_over_w"
-                         f"{' and inertia_ratio' if spec.inertia_ratio is not None else ''}; "
-                         f"the drive leaves {', '.join(extra)} without a value (a sweep's cells "
-                         "differ only in those two; write the drive's amplitude with a and its "
-                         "frequency with omega, as in a*cos(omega*t) + a*cos(2*omega*t))")
+        # said for sweep, simulate and animate alike: the symbols, and how to write instead
+        sets = ("a/l, omega0/omega and I/(m l^2)" if spec.inertia_ratio is not None
+                else "a/l and omega0/omega")
+        raise InputError(f"the drive leaves {', '.join(extra)} without a value: a drive may use "
+                         "only t, a and omega (write the drive's amplitude with a and its "
+                         "frequency with omega, and a number for any other factor, as in "
+                         f"a*cos(omega*t) + a/2*cos(2*omega*t)); a run sets only {sets}")
     if spec.inertia_ratio is None and spec.body == "explicit" and "inertia_ratio" in names:
         raise InputError("an explicit body with the symbol I needs inertia_ratio")
     return names
@@ -830,6 +835,11 @@ def prune_plan(spec, margin=MARGIN, amplitude=None):
 
     if spec.criterion not in ("mean", "mean-abs", "bounded"):
         raise InputError("pruning applies to the criteria mean, mean-abs and bounded")
+    kind = _stages(spec.system)[1].kind
+    if kind != "mathieu":
+        raise InputError("pruning needs Mathieu's equation (the Floquet exponents of (theta0, "
+                         f"theta1) choose the cells integrated), and the drive gives a {kind} "
+                         "equation, not Mathieu's: sweep without pruning")
     margin = _count(margin, "margin", 0, 1000)
     n_c, n_w, n_a = spec.shape
     F = floquet_verdict(spec, np.arange(n_w * n_a)).reshape(n_w, n_a)

@@ -112,7 +112,11 @@ def check_options(options):
     if options["backend"] not in ("numpy", "c", "auto"):
         problems.append(f"backend must be numpy, c or auto, got {options['backend']!r}")
     if not problems:
-        work = limits.work_problem("experiments", options)
+        compiler = False
+        if options["backend"] == "auto":  # costed as what it will run (C where a compiler is)
+            from pendulab.numerics.ckernel import compiler_found
+            compiler = compiler_found() is not None
+        work = limits.work_problem("experiments", options, compiler=compiler)
         if work:
             problems.append(work)
     if problems:
@@ -138,8 +142,9 @@ def _prepared(ctx, options):
         mathieu = _sweep()._stages(spec)[1].kind == "mathieu"
         if not mathieu:
             # a Hill drive: the Floquet verdict is the monodromy matrix's; eq. 28, the exact
-            # limits of pendulab.analyses.stability and the series of Fig. 5 are Mathieu's
-            wanted = [k for k in ("fig5", "fig2") if options[k]]
+            # limits of pendulab.analyses.stability and the series of Fig. 5 are Mathieu's, and
+            # so are the exponents by which pruning chooses the cells it integrates
+            wanted = [k for k in ("prune", "fig5", "fig2") if options[k]]
             if wanted:
                 raise InputError(f"{' and '.join(wanted)}: the drive gives a Hill equation, and "
                                  f"{'they need' if len(wanted) > 1 else 'it needs'} Mathieu's "
