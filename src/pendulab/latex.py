@@ -232,3 +232,155 @@ def packages_needed(tex):
     """
     code = "\n".join(line for line in tex.splitlines() if not line.lstrip().startswith("%"))
     return [name for name, marks in _PACKAGE_MARKS.items() if any(m in code for m in marks)]
+
+
+# -- the series' rational functions (000 eqs. 20-22; DLMF 28.6) ----------------------------------
+# The printer of series.tex.  It lives on this floor so that the series objects of
+# pendulab.analyses.series show themselves in a notebook with it (``_repr_latex_``), as
+# the product "series" writes them (pendulab.products.series uses these functions).
+
+def series_width(tex):
+    """Width of a LaTeX math fragment of the series in characters, roughly as printed
+    (a fraction: its wider part)."""
+    i = tex.find("\\frac{")
+    if i >= 0:
+        numer, j = brace_group(tex, i + 5)
+        denom, k = brace_group(tex, j)
+        inner = max(series_width(numer), series_width(denom))
+        return series_width(tex[:i]) + inner + series_width(tex[k:]) + 2
+    t = re.sub(r"\\(nu|tau|theta|alpha|cdot|quad|qquad|left|right|bigl|bigr|Bigl|Bigr)", "x", tex)
+    t = re.sub(r"\\\\\s*$", "", t.strip())
+    t = re.sub(r"\\[a-zA-Z]+|\\,|&", "", t)
+    t = re.sub(r"[{}^_]", "", t)
+    return len(re.sub(r"\s+", " ", t).strip())
+
+
+def int_tokens(value, first):
+    """Tokens of a signed integer; long integers are split into digit groups."""
+    sign = "-" if value < 0 else ("+" if not first else "")
+    digits = str(abs(value))
+    piece = LINE_WIDTH - 12  # digits of one row: with the widest name and \quad, within the text
+    pieces = [digits[i:i + piece] for i in range(0, len(digits), piece)]
+    out = []
+    for i, ch in enumerate(pieces):
+        prefix = (f"{sign} " if sign else "") if i == 0 else ""
+        out.append(prefix + ch)
+    return out
+
+
+def poly_tokens(num, var=r"\nu"):
+    """Tokens of sum_i num[i] var^i, highest power first (each token a term or a digit group)."""
+    tokens = []
+    first = True
+    for i in range(len(num) - 1, -1, -1):
+        c = num[i]
+        if not c:
+            continue
+        power = "" if i == 0 else (var if i == 1 else f"{var}^{{{i}}}")
+        if power and abs(c) == 1:
+            tokens.append(("- " if c < 0 else ("" if first else "+ ")) + power)
+        else:
+            parts = int_tokens(c, first)
+            if power:
+                parts[-1] = parts[-1] + " " + power
+            tokens.extend(parts)
+        first = False
+    return tokens or ["0"]
+
+
+def factor_tokens(raw, var=r"\nu"):
+    """Tokens of the denominator of ``raw``: its integer, then its linear factors (var + j)^e."""
+    tokens = int_tokens(raw.den, True) if raw.den != 1 else []
+    for j, e in raw.exps:
+        f = f"({var} {'+' if j > 0 else '-'} {abs(j)})"
+        tokens.append(f if e == 1 else f"{f}^{{{e}}}")
+    return tokens or ["1"]
+
+
+def series_lines(tokens, width):
+    """Greedy line filling: lists of tokens whose :func:`series_width` stays within ``width``."""
+    lines, cur, cur_w = [], [], 0
+    for tok in tokens:
+        w = series_width(tok) + 1
+        if cur and cur_w + w > width:
+            lines.append(cur)
+            cur, cur_w = [], 0
+        cur.append(tok)
+        cur_w += w
+    if cur:
+        lines.append(cur)
+    return lines
+
+
+def ratfun_rows(name, raw):
+    """align* rows for ``name = raw``: one \\frac when it fits, else numerator and denominator
+    broken.  ``raw`` has ``num`` (integer coefficients, lowest power first), ``den`` (an
+    integer) and ``exps`` ((j, e): the factor (nu + j)^e of the denominator), as a
+    :class:`~pendulab.analyses.series_ratfun.RatFun`."""
+    num_tokens = poly_tokens(raw.num)
+    den_tokens = factor_tokens(raw)
+    num_text, den_text = " ".join(num_tokens), " ".join(den_tokens)
+    sign = ""
+    if len(num_tokens) == 1 and num_tokens[0].startswith("- "):
+        sign, num_text = "-", num_text[2:]
+    if raw.exps or raw.den != 1:
+        short = rf"{sign}\frac{{{num_text}}}{{{den_text}}}"
+    else:
+        short = sign + num_text
+    if series_width(name) + series_width(short) + 4 <= LINE_WIDTH and (
+            series_width(num_text) <= LINE_WIDTH - 12 and series_width(den_text) <= LINE_WIDTH - 12):
+        return [rf"{name} &= {short}"]
+    rows = [rf"{name} &= \frac{{N}}{{D}}, \quad \text{{with}}"]
+    for label, toks in (("N", num_tokens), ("D", den_tokens)):
+        for i, line in enumerate(series_lines(toks, LINE_WIDTH - 6)):
+            lhs = f"{label} &= " if i == 0 else r"&\quad "
+            joiner = " " if label == "N" else r" \, "
+            rows.append(lhs + joiner.join(line))
+    return rows
+
+
+def align(rows):
+    """One ``align*`` environment of ``rows`` (amsmath)."""
+    return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+
+
+class _Integer:
+    """An exact rational c as the (num, den, exps) that :func:`ratfun_rows` prints."""
+
+    def __init__(self, c):
+        self.num, self.den, self.exps = (c.numerator,), c.denominator, ()
+
+
+def mathieu_series_blocks(series):
+    """The ``align*`` blocks of series.tex for a :class:`~pendulab.analyses.series.MathieuSeries`:
+    for n = 1 .. order, alpha_n and the C_{n,k} (short coefficients share a block of at most
+    12 rows; a long one gets its own)."""
+    out = []
+    for n in range(1, series.order + 1):
+        blocks = [ratfun_rows(rf"\alpha_{{{n}}}", series.alpha_raw[n])]
+        blocks += [ratfun_rows(rf"C_{{{n},{k}}}", v) for k, v in series.c_raw[n]]
+        group = []
+        for rows in blocks + [None]:
+            if rows is None or (group and len(group) + len(rows) > 12):
+                out.append(align(group))
+                group = []
+            if rows is not None:
+                group.extend(rows)
+    return out
+
+
+def characteristic_series_block(series):
+    """The ``align*`` block of series.tex for a
+    :class:`~pendulab.analyses.series.CharacteristicSeries`: a_m(q) (or b_m(q)) = sum c_p q^p
+    + O(q^(order+1)), then each c_p."""
+    letter, m = series.kind[0], series.kind[1:]
+    powers = [p for p, c in sorted(series.coefficients.items()) if c]
+    terms = [f"c_{{{p}}}" + ("" if p == 0 else (" q" if p == 1 else f" q^{{{p}}}")) for p in powers]
+    lines = series_lines([("" if i == 0 else "+ ") + t for i, t in enumerate(terms)] or ["0"],
+                         LINE_WIDTH - 16)
+    rows = [rf"{letter}_{{{m}}}(q) &= " + " ".join(lines[0])]
+    rows += [r"&\quad " + " ".join(line) for line in lines[1:]]
+    rows[-1] += r" + O(q^{" + str(series.order + 1) + "})"
+    for p in powers:
+        rows.extend(ratfun_rows(f"c_{{{p}}}", _Integer(series.coefficients[p])))
+    return align(rows)
