@@ -384,3 +384,77 @@ def characteristic_series_block(series):
     for p in powers:
         rows.extend(ratfun_rows(f"c_{{{p}}}", _Integer(series.coefficients[p])))
     return align(rows)
+
+
+# -- results in a notebook: ``_repr_latex_`` and ``_repr_html_`` ---------------------------------
+# The result objects of the API (equations, canonical forms, series, Floquet results, limits,
+# zeros, quarter periods) show themselves typeset in Jupyter with these and the printers
+# above.  What they return compiles in a bare article with amsmath alone (tests/test_repr_latex.py)
+# and is display math that MathJax renders: align*, gather*, array, \text.
+
+def text(words):
+    """``words`` as a math-mode ``\\text{...}``, LaTeX's special characters escaped."""
+    out = []
+    for ch in str(words):
+        if ch in "#$%&_{}":
+            out.append("\\" + ch)
+        elif ch == "\\":
+            out.append(r"\textbackslash{}")
+        elif ch in "^~":
+            out.append({"^": r"\^{}", "~": r"\~{}"}[ch])
+        else:
+            out.append(ch)
+    return r"\text{" + "".join(out) + "}"
+
+
+_COMPLEX_TEXT = re.compile(r"^(?P<re>[+-]?[0-9.]+(?:e[+-]?\d+)?)(?P<sign>[+-])(?P<im>[0-9.]+(?:e[+-]?\d+)?)j$")
+_EXPONENT = re.compile(r"^(?P<mant>[+-]?[0-9.]+)e(?P<exp>[+-]?\d+)$")
+
+
+def number_tex(value):
+    """A number's text as LaTeX: ``1.5e-7`` -> ``1.5 \\cdot 10^{-7}``, ``0.5+2.0j`` (the
+    text form of :mod:`pendulab.analyses.floquet_format`) -> ``0.5 + 2.0\\,i``.
+
+    >>> number_tex("-2.5e-07"), number_tex("1.0-0.25j"), number_tex("3")
+    ('-2.5 \\\\cdot 10^{-7}', '1.0 - 0.25\\\\,i', '3')
+    """
+    s = str(value).strip()
+    m = _COMPLEX_TEXT.match(s)
+    if m:
+        return f"{number_tex(m.group('re'))} {m.group('sign')} {number_tex(m.group('im'))}\\,i"
+    m = _EXPONENT.match(s)
+    if m:
+        return f"{m.group('mant')} \\cdot 10^{{{int(m.group('exp'))}}}"
+    return s
+
+
+def gather(rows):
+    """One ``gather*`` environment of ``rows`` (amsmath)."""
+    return "\\begin{gather*}\n" + " \\\\\n".join(rows) + "\n\\end{gather*}"
+
+
+def math_table(caption, header, rows):
+    """A table as display math: ``caption`` (LaTeX text, e.g. from :func:`text`) above an
+    ``array`` whose first line is ``header``; every cell is math.  Needs amsmath only (no
+    float, no booktabs), so it is what a notebook shows; :func:`html_table` is its HTML twin."""
+    spec = "r" + "l" * (len(header) - 1)
+    lines = [f"\\begin{{array}}{{{spec}}}", " & ".join(header) + " \\\\", "\\hline"]
+    lines += [" & ".join(row) + " \\\\" for row in rows]
+    lines.append("\\end{array}")
+    return gather([caption, "\n".join(lines)])
+
+
+def html_table(caption, header, rows):
+    """An HTML ``<table>``: ``caption``, one header row, one ``<tr>`` per row of ``rows``.
+    Cells are text (escaped); a cell between ``$...$`` is math that the notebook typesets.
+
+    >>> html_table("Zeros", ["k", "$j_{1,k}$"], [["1", "3.83"]]).count("<tr>")
+    2
+    """
+    from html import escape
+    out = ["<table>", f"<caption>{escape(caption)}</caption>",
+           "<thead><tr>" + "".join(f"<th>{escape(h)}</th>" for h in header) + "</tr></thead>",
+           "<tbody>"]
+    out += ["<tr>" + "".join(f"<td>{escape(str(c))}</td>" for c in row) + "</tr>" for row in rows]
+    out += ["</tbody>", "</table>"]
+    return "\n".join(out)
