@@ -434,14 +434,16 @@ def gather(rows):
 
 
 def math_table(caption, header, rows):
-    """A table as display math: ``caption`` (LaTeX text, e.g. from :func:`text`) above an
-    ``array`` whose first line is ``header``; every cell is math.  Needs amsmath only (no
-    float, no booktabs), so it is what a notebook shows; :func:`html_table` is its HTML twin."""
+    """A table as display math: ``caption`` (a line of LaTeX math, e.g. from :func:`text`, or
+    a list of them) above an ``array`` whose first line is ``header``; every cell is math.
+    Needs amsmath only (no float, no booktabs), so it is what a notebook shows;
+    :func:`html_table` is its HTML twin."""
     spec = "r" + "l" * (len(header) - 1)
     lines = [f"\\begin{{array}}{{{spec}}}", " & ".join(header) + " \\\\", "\\hline"]
     lines += [" & ".join(row) + " \\\\" for row in rows]
     lines.append("\\end{array}")
-    return gather([caption, "\n".join(lines)])
+    captions = [caption] if isinstance(caption, str) else list(caption)
+    return gather(captions + ["\n".join(lines)])
 
 
 def html_table(caption, header, rows):
