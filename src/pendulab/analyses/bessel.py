@@ -249,6 +249,18 @@ class BesselSolution:
         theta = self.general_z.subs(_z, z_of_var)
         return _simplified_residual(build(theta, theta.diff(var), theta.diff(var, 2)))
 
+    def _repr_latex_(self):
+        """The general solution in z and the initial-value solution (002) as one ``align*``,
+        as the product "equations" prints them; None (the plain repr) before :meth:`solve`."""
+        if not self._done:
+            return None
+        from pendulab.latex import align, sum_rows, text
+        rows = [r"&" + text("general solution in Bessel functions (002):")]
+        rows += sum_rows(r"\theta", self.general_z) + [r"z &= " + sp.latex(self.z_of_L)]
+        rows += [r"&" + text("with ") + r"\theta(0) = \theta_0,\ \dot\theta(0) = 0" + text(":"),
+                 r"\theta &= " + sp.latex(self.particular_z), r"z_0 &= " + sp.latex(self.z0)]
+        return align(rows)
+
     @property
     def solution(self):
         self._need()
