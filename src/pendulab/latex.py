@@ -428,6 +428,22 @@ def number_tex(value):
     return s
 
 
+def number_rows(lhs, number):
+    r"""align* rows of ``lhs = number`` (``number`` from :func:`number_tex`): one row when it
+    fits :data:`LINE_WIDTH`, else a complex number's imaginary part on a row of its own.
+
+    >>> number_rows("x", "0.5 + 2.0\\,i")
+    ['x &= 0.5 + 2.0\\,i']
+    >>> number_rows("x", "0." + "1" * 40 + " - 0." + "2" * 40 + "\\,i")[1][:14]
+    '&\\quad - 0.222'
+    """
+    row = f"{lhs} &= {number}"
+    m = re.match(r"^(.*\S) ([+-]) (\S+\\,i)$", number)
+    if visible_width(row) <= LINE_WIDTH or not m:
+        return [row]
+    return [f"{lhs} &= {m.group(1)}", rf"&\quad {m.group(2)} {m.group(3)}"]
+
+
 def gather(rows):
     """One ``gather*`` environment of ``rows`` (amsmath)."""
     return "\\begin{gather*}\n" + " \\\\\n".join(rows) + "\n\\end{gather*}"

@@ -223,7 +223,7 @@ class Limits(tuple):
         """lower < quantity < upper and how many digits are proved, for a notebook (the numbers
         as :func:`pendulab.analyses.floquet_format.number_text` writes them)."""
         from pendulab.analyses.floquet_format import number_text
-        from pendulab.latex import align, number_tex, text
+        from pendulab.latex import LINE_WIDTH, align, gather, number_tex, text, visible_width
         digits = self.certified_digits
         ends = [number_tex(number_text(x, None if isinstance(x, float) else (digits or 15)))
                 for x in self]
@@ -232,7 +232,10 @@ class Limits(tuple):
             proof = "first stable band; certified digits not counted"
         else:
             proof = f"first stable band; {digits} significant digits of each end proved"
-        return align([rf"{ends[0]} &< {what} < {ends[1]}", "&" + text(proof)])
+        rows = [rf"{ends[0]} &< {what} < {ends[1]}"]
+        if visible_width(rows[0]) > LINE_WIDTH:  # the upper end on a row of its own
+            rows = [rf"{ends[0]} &< {what}", rf"&< {ends[1]}"]
+        return align(rows) + "\n" + gather([text(proof)])
 
 
 def first_band(theta0, dps=None, method=None):

@@ -99,7 +99,7 @@ class FloquetResult:
         in full (:func:`pendulab.analyses.floquet_format.number_text`, what the floquet
         command and product print) and, for method "arb", how many digits are proved."""
         from pendulab.analyses.floquet_format import number_text
-        from pendulab.latex import align, number_tex, text
+        from pendulab.latex import align, number_rows, number_tex, text
         lam = number_tex(number_text(self.lam, self.dps))
         up, down = (number_tex(number_text(m, self.dps)) for m in self.multipliers)
         verdict = "on a characteristic curve, " if self.on_boundary else ""
@@ -110,8 +110,8 @@ class FloquetResult:
             # in a gap lam = e + i mu with e exact: the digits proved are mu's
             part = "" if mpmath.im(self.lam) == 0 else "of the imaginary part "
             proof = f"{self.certified_digits} significant digits {part}proved (method {self.method})"
-        return align([r"\lambda &= " + lam, r"e^{i \pi \lambda} &= " + up,
-                      r"e^{-i \pi \lambda} &= " + down, r"&" + text(f"{verdict}; {proof}")])
+        return align(number_rows(r"\lambda", lam) + number_rows(r"e^{i \pi \lambda}", up)
+                     + number_rows(r"e^{-i \pi \lambda}", down) + [r"&" + text(f"{verdict}; {proof}")])
 
 
 def _core(method, X0, X1, w):
