@@ -18,6 +18,7 @@ import sympy as sp
 
 from pendulab import canonical, equations, symbols as S, systems
 from pendulab.analyses import bessel, stability
+from pendulab.analyses.bessel_identities import ENGINES, RULES, check_identities
 from pendulab.analyses.bessel_periods import quarter_periods
 from pendulab.analyses.bessel_zeros import bessel_zeros
 from pendulab.analyses.floquet import characteristic_exponent, first_band
@@ -69,6 +70,7 @@ def _results():
         "QuarterPeriods": lambda: quarter_periods(4, 15),
         "ComparisonTable": lambda: stability.comparison([0, 0.1, "1/5"], "4/3",
                                                          ["exact", "eq12", "eq19"]),
+        "IdentityReport": lambda: check_identities(2, 15, [0.5, 3.0, 10.0]),
     }
 
 
@@ -338,3 +340,16 @@ def test_the_comparison_is_still_the_dict_and_a_table_of_one_row_per_ratio():
     # eq19 (000 eq. 19): lower a/l = sqrt(2 I/(m l^2)) omega0/omega, at 0.1 with the rod
     assert html.rows[1][3].startswith(f"{(2 * 4 / 3) ** 0.5 * 0.1:.4f}")
     assert r"\text{---}" in table._repr_latex_()
+
+
+def test_the_identity_report_has_one_row_per_engine_and_identity():
+    report = check_identities(2, 15, [0.5, 3.0, 10.0])
+    table = parse_table(report._repr_html_())
+    assert len(table.rows) == len(ENGINES) * len(RULES) == 8
+    assert {(r[0], r[1]) for r in table.rows} == {(e, r.replace("_", " ")) for e in ENGINES
+                                                  for r in RULES}
+    # the identities hold exactly (DLMF 10.5.2, 10.6.2, 10.6.3): at 15 digits both engines
+    # err by less than 10^-15, on the points asked for
+    assert all(float(r[2]) < 1e-15 and float(r[3]) in (0.5, 3.0, 10.0) for r in table.rows)
+    assert "every arb ball contains its exact value" in table.caption
+    assert r"\text{every arb ball contains its exact value}" in report._repr_latex_()

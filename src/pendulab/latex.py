@@ -393,10 +393,17 @@ def characteristic_series_block(series):
 # and is display math that MathJax renders: align*, gather*, array, \text.
 
 def text(words):
-    """``words`` as a math-mode ``\\text{...}``, LaTeX's special characters escaped."""
+    """``words`` as a math-mode ``\\text{...}``, LaTeX's special characters escaped; ``<``,
+    ``>`` and ``|`` are set in math between two texts (the text font has no such glyphs).
+
+    >>> print(text("n <= 2, 5% of a_0"))
+    \\text{n }<\\text{= 2, 5\\% of a\\_0}
+    """
     out = []
     for ch in str(words):
-        if ch in "#$%&_{}":
+        if ch in "<>|":
+            out.append("}" + ch + r"\text{")
+        elif ch in "#$%&_{}":
             out.append("\\" + ch)
         elif ch == "\\":
             out.append(r"\textbackslash{}")
