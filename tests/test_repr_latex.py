@@ -22,6 +22,7 @@ from pendulab.analyses.bessel_identities import ENGINES, RULES, check_identities
 from pendulab.analyses.bessel_periods import quarter_periods
 from pendulab.analyses.bessel_zeros import bessel_zeros
 from pendulab.analyses.floquet import characteristic_exponent, first_band
+from pendulab.analyses.mathieu_branch import branch_point
 from pendulab.analyses.series import characteristic_series, mathieu_series
 from pendulab.analyses.stability_map import stability_limits
 from test_latex import needs_pdflatex, strict_problems
@@ -71,6 +72,7 @@ def _results():
         "ComparisonTable": lambda: stability.comparison([0, 0.1, "1/5"], "4/3",
                                                          ["exact", "eq12", "eq19"]),
         "IdentityReport": lambda: check_identities(2, 15, [0.5, 3.0, 10.0]),
+        "BranchPoint": lambda: branch_point("a1", 15),
     }
 
 
@@ -353,3 +355,18 @@ def test_the_identity_report_has_one_row_per_engine_and_identity():
     assert all(float(r[2]) < 1e-15 and float(r[3]) in (0.5, 3.0, 10.0) for r in table.rows)
     assert "every arb ball contains its exact value" in table.caption
     assert r"\text{every arb ball contains its exact value}" in report._repr_latex_()
+
+
+@pytest.mark.parametrize("kind,column", [("a0", "rho1"), ("b2", "rho2"), ("a1", "rho3")])
+def test_the_branch_point_shows_the_radius_of_dlmf_table_28_6_1(kind, column):
+    import csv
+    import pathlib
+    data = pathlib.Path(__file__).resolve().parent / "data" / "dlmf_table_28_6_1.csv"
+    rows = list(csv.DictReader(line for line in data.read_text().splitlines()
+                               if not line.startswith("#")))
+    radius = float(rows[0][column])            # the row "0 or 1", 10 decimals as printed
+    tex = branch_point(kind, 15)._repr_latex_()
+    shown = re.search(r"^\|q\| &= (\S+)$", tex, re.M)
+    assert shown and abs(float(shown.group(1)) - radius) < 1e-10
+    assert len(shown.group(1).replace(".", "")) == 15
+    assert f"{kind[0]}_{{{kind[1:]}}}(q)" in tex
