@@ -73,6 +73,7 @@ def _results():
                                                          ["exact", "eq12", "eq19"]),
         "IdentityReport": lambda: check_identities(2, 15, [0.5, 3.0, 10.0]),
         "BranchPoint": lambda: branch_point("a1", 15),
+        "SwingList": lambda: bessel.quarter_periods(4, 20),
     }
 
 
@@ -370,3 +371,20 @@ def test_the_branch_point_shows_the_radius_of_dlmf_table_28_6_1(kind, column):
     assert shown and abs(float(shown.group(1)) - radius) < 1e-10
     assert len(shown.group(1).replace(".", "")) == 15
     assert f"{kind[0]}_{{{kind[1:]}}}(q)" in tex
+
+
+def test_the_swing_list_is_still_a_list_and_a_table_of_one_row_per_quarter_period():
+    swings = bessel.quarter_periods(5, 20)
+    assert isinstance(swings, list) and len(swings) == 5 and swings[0]["direction"] == "toward"
+    table = parse_table(swings._repr_html_())
+    assert len(table.rows) == 5
+    assert [r[3] for r in table.rows] == ["toward", "outward", "toward", "outward", "toward"]
+    # 002's last page: 22.8438, 21.6315, 32.6495; in general j_1,k+1^2 - j_2,k^2 (toward) and
+    # j_2,k+1^2 - j_1,k+1^2 (outward), plain mpmath
+    assert [r[4][:7] for r in table.rows[:2]] == ["22.8438", "21.6315"]
+    with mpmath.workdps(40):
+        z = [mpmath.besseljzero(2, 1)]
+        for k in range(2, 5):
+            z += [mpmath.besseljzero(1, k), mpmath.besseljzero(2, k)]
+        reference = [mpmath.nstr(z[i + 1] ** 2 - z[i] ** 2, 15) for i in range(5)]
+    assert [r[4] for r in table.rows] == reference

@@ -294,10 +294,35 @@ def check_cross_product_numerically(n, z_values, dps=50):
 # Quarter periods (002, last part)
 # ---------------------------------------------------------------------------
 
+class SwingList(list):
+    """The list :func:`quarter_periods` returns (its records unchanged), which a notebook shows
+    as a table: one row per quarter period, in time order."""
+
+    def _rows(self):
+        import mpmath
+        return [[str(k + 1), r["from"], r["to"], r["direction"], mpmath.nstr(r["duration"], 15)]
+                for k, r in enumerate(self)]
+
+    _CAPTION = "quarter periods of the growing string in time order (unit v0/(4g))"
+    _TEX_CAPTION = r"\text{quarter periods of the growing string in time order (unit }v_0/(4g)\text{)}"
+
+    def _repr_latex_(self):
+        """The table as display math (:func:`pendulab.latex.math_table`)."""
+        from pendulab.latex import math_table, text
+        rows = [[k, text(a), text(b), text(d), v] for k, a, b, d, v in self._rows()]
+        return math_table(self._TEX_CAPTION, ["", text("from"), text("to"), text("swing"),
+                                                 text("duration")], rows)
+
+    def _repr_html_(self):
+        """The table in HTML (:func:`pendulab.latex.html_table`), one row per quarter period."""
+        from pendulab.latex import html_table
+        return html_table(self._CAPTION, ["", "from", "to", "swing", "duration"], self._rows())
+
+
 def quarter_periods(count=8, dps=30):
     """Quarter periods of the B = 0 solution of the growing string, in time order (002).
 
-    A list of ``count`` records (dicts: "from", "to", "direction" ("toward"
+    A list (a :class:`SwingList`) of ``count`` records (dicts: "from", "to", "direction" ("toward"
     equilibrium or "outward"), "z_from", "z_to", "duration" = difference of
     squares in the unit v0/(4 g)), numbers as mpmath mpf at ``dps`` digits.
     The zeros are pendulab's certified ones
@@ -311,7 +336,7 @@ def quarter_periods(count=8, dps=30):
     check_dps(dps)
     n = count // 2 + 3
     j1, j2 = bessel_zeros(1, n, dps).strings, bessel_zeros(2, n, dps).strings
-    out = []
+    out = SwingList()
     with mpmath.workdps(dps + 10):
         events = []
         for k in range(1, n):  # interlacing (proved in bessel_periods): j_2,k < j_1,k+1 < j_2,k+1
