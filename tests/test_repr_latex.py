@@ -65,6 +65,10 @@ def _results():
         "FloquetResult (stable, arb)": lambda: characteristic_exponent("1/5", "1/10", dps=25),
         "FloquetResult (gap, arb)": lambda: characteristic_exponent("13/10", "9/10", dps=25),
         "FloquetResult (double)": lambda: characteristic_exponent(0.2, 0.1),
+        # numbers wider than a line: the imaginary parts go on rows of their own
+        "FloquetResult (45 digits)": lambda: characteristic_exponent("1/5", "1/10", dps=45),
+        "FloquetResult (gap, 60 digits)": lambda: characteristic_exponent(-2, 0, dps=60),
+        "Limits (stability_limits, 50 digits)": lambda: stability_limits("1/10", "4/3", dps=50),
         "Limits (first_band)": lambda: first_band("-1/100", dps=30),
         "Limits (stability_limits)": lambda: stability_limits("1/10", "4/3", dps=20),
         "ZeroSet": lambda: bessel_zeros("1/3", 5, 25),
@@ -187,8 +191,8 @@ def test_the_integer_series_shows_dlmf_28_6_1():
     assert re.search(r"\|q\| < 1\.468768", tex)
 
 
-def _digits(tex, label):
-    """The number printed after ``label &= `` (or the imaginary part, before ``\\,i``)."""
+def _row(tex, label):
+    """The align* row that starts ``label &= ``."""
     row = next(line for line in tex.splitlines() if line.startswith(label + " &= "))
     return row
 
@@ -198,10 +202,10 @@ def test_the_exponent_shows_its_certified_digits():
     with mpmath.workdps(40):
         root2 = mpmath.nstr(mpmath.sqrt(2), 22)
     stable = characteristic_exponent(2, 0, dps=22)._repr_latex_()
-    assert _digits(stable, r"\lambda") == r"\lambda &= " + root2 + r" \\"
+    assert _row(stable, r"\lambda") == r"\lambda &= " + root2 + r" \\"
     assert r"stable; 22 significant digits of }\lambda\text{ proved" in stable
     gap = characteristic_exponent(-2, 0, dps=22)._repr_latex_()
-    assert root2 + r"\,i" in _digits(gap, r"\lambda") and "unstable" in gap
+    assert root2 + r"\,i" in _row(gap, r"\lambda") and "unstable" in gap
 
 
 def test_the_exponent_in_a_gap_says_the_digits_are_the_imaginary_parts():
@@ -217,12 +221,42 @@ def test_an_exponent_without_a_proof_claims_no_digits():
         assert "no digit proved" in tex and "significant digits" not in tex
 
 
+def _number(tex, label):
+    r"""The number on the row ``label &= ...``, its digits joined across the ``&\quad`` rows
+    that continue it."""
+    lines = [line.rstrip(" \\") for line in tex.splitlines()]
+    k = next(i for i, line in enumerate(lines) if line.startswith(label + " &= "))
+    out = lines[k][len(label) + 4:]
+    for line in lines[k + 1:]:
+        if not re.match(r"^&\\quad [0-9]", line):
+            break
+        out += line[len(r"&\quad "):]
+    return out
+
+
 def _ends(tex):
-    """(lower, quantity, upper) of ``lower < quantity < upper`` on one row or two."""
-    m = (re.search(r"^(\S+) &< (.+?) < (\S+)$", tex, re.M)
-         or re.search(r"^(\S+) &< (.+?) \\\\\n&< (\S+)$", tex, re.M))
-    assert m, tex
-    return m.group(1), m.group(2), m.group(3)
+    """(lower, quantity, upper) of ``lower < quantity < upper`` on one row, or of the rows
+    ``lower end of quantity = ...`` and ``upper end of quantity = ...``."""
+    m = re.search(r"^(\S+) &< (.+?) < (\S+)$", tex, re.M)
+    if m:
+        return m.group(1), m.group(2), m.group(3)
+    what = re.search(r"^\\text\{lower end of \}(.+?) &= ", tex, re.M).group(1)
+    return (_number(tex, r"\text{lower end of }" + what), what,
+            _number(tex, r"\text{upper end of }" + what))
+
+
+def test_wide_numbers_are_continued_on_rows_with_every_digit():
+    with mpmath.workdps(80):
+        root2 = mpmath.nstr(mpmath.sqrt(2), 60)
+    tex = characteristic_exponent(-2, 0, dps=60)._repr_latex_()
+    # lam = i sqrt(2) (theta1 = 0): its 60 digits across rows, none lost
+    lines = tex.splitlines()
+    k = lines.index(r"\lambda &= 0.0 \\")
+    joined = lines[k + 1].rstrip(" \\")[len(r"&\quad + "):] + "".join(
+        line.rstrip(" \\")[len(r"&\quad "):] for line in lines[k + 2:k + 3])
+    assert joined == root2 + r"\,i"
+    lo, what, up = _ends(stability_limits("1/10", "4/3", dps=50)._repr_latex_())
+    assert what == "a/l" and len(lo) == len(up) == 52   # "0." and 50 digits
 
 
 def test_the_first_band_shows_30_proved_digits_that_scipy_confirms():

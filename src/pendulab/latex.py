@@ -437,18 +437,36 @@ def number_tex(value):
 
 def number_rows(lhs, number):
     r"""align* rows of ``lhs = number`` (``number`` from :func:`number_tex`): one row when it
-    fits :data:`LINE_WIDTH`, else a complex number's imaginary part on a row of its own.
+    fits :data:`LINE_WIDTH`; else a complex number's imaginary part on a row of its own, and
+    a run of digits too long for a row continued on the next ones (``&\quad`` rows), as the
+    series' long integers are (:func:`int_tokens`).
 
     >>> number_rows("x", "0.5 + 2.0\\,i")
     ['x &= 0.5 + 2.0\\,i']
     >>> number_rows("x", "0." + "1" * 40 + " - 0." + "2" * 40 + "\\,i")[1][:14]
     '&\\quad - 0.222'
+    >>> rows = number_rows("x", "3." + "1" * 70)
+    >>> len(rows), "".join(r.split(" ")[-1] for r in rows) == "3." + "1" * 70
+    (2, True)
     """
     row = f"{lhs} &= {number}"
-    m = re.match(r"^(.*\S) ([+-]) (\S+\\,i)$", number)
-    if visible_width(row) <= LINE_WIDTH or not m:
+    if visible_width(row) <= LINE_WIDTH:
         return [row]
-    return [f"{lhs} &= {m.group(1)}", rf"&\quad {m.group(2)} {m.group(3)}"]
+    m = re.match(r"^(.*\S) ([+-]) (\S+\\,i)$", number)
+    parts = [m.group(1), f"{m.group(2)} {m.group(3)}"] if m else [number]
+    room = LINE_WIDTH - visible_width(lhs) - 8
+    pieces = []
+    for part in parts:
+        d = re.match(r"^([+-] )?([0-9.]+)(.*)$", part)
+        if d is None or len(d.group(2)) <= room:
+            pieces.append(part)
+            continue
+        digits = d.group(2)
+        runs = [digits[i:i + room] for i in range(0, len(digits), room)]
+        runs[0] = (d.group(1) or "") + runs[0]
+        runs[-1] += d.group(3)
+        pieces.extend(runs)
+    return [f"{lhs} &= {pieces[0]}"] + [rf"&\quad {piece}" for piece in pieces[1:]]
 
 
 def gather(rows):

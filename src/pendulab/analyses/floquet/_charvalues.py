@@ -223,7 +223,7 @@ class Limits(tuple):
         """lower < quantity < upper and how many digits are proved, for a notebook (the numbers
         as :func:`pendulab.analyses.floquet_format.number_text` writes them)."""
         from pendulab.analyses.floquet_format import number_text
-        from pendulab.latex import LINE_WIDTH, align, gather, number_tex, text, visible_width
+        from pendulab.latex import LINE_WIDTH, align, gather, number_rows, number_tex, text, visible_width
         digits = self.certified_digits
         ends = [number_tex(number_text(x, None if isinstance(x, float) else (digits or 15)))
                 for x in self]
@@ -233,8 +233,9 @@ class Limits(tuple):
         else:
             proof = f"first stable band; {digits} significant digits of each end proved"
         rows = [rf"{ends[0]} &< {what} < {ends[1]}"]
-        if visible_width(rows[0]) > LINE_WIDTH:  # the upper end on a row of its own
-            rows = [rf"{ends[0]} &< {what}", rf"&< {ends[1]}"]
+        if visible_width(rows[0]) > LINE_WIDTH:  # each end on rows of its own
+            rows = (number_rows(text("lower end of ") + what, ends[0])
+                    + number_rows(text("upper end of ") + what, ends[1]))
         return align(rows) + "\n" + gather([text(proof)])
 
 
