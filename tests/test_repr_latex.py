@@ -73,6 +73,8 @@ def _results():
         "Limits (stability_limits)": lambda: stability_limits("1/10", "4/3", dps=20),
         "ZeroSet": lambda: bessel_zeros("1/3", 5, 25),
         "QuarterPeriods": lambda: quarter_periods(4, 15),
+        "ZeroSet (70 digits)": lambda: bessel_zeros(1, 3, 70),
+        "QuarterPeriods (40 digits)": lambda: quarter_periods(3, 40),
         "ComparisonTable": lambda: stability.comparison([0, 0.1, "1/5"], "4/3",
                                                          ["exact", "eq12", "eq19"]),
         "IdentityReport": lambda: check_identities(2, 15, [0.5, 3.0, 10.0]),
@@ -422,3 +424,17 @@ def test_the_swing_list_is_still_a_list_and_a_table_of_one_row_per_quarter_perio
             z += [mpmath.besseljzero(1, k), mpmath.besseljzero(2, k)]
         reference = [mpmath.nstr(z[i + 1] ** 2 - z[i] ** 2, 15) for i in range(5)]
     assert [r[4] for r in table.rows] == reference
+
+
+def test_a_long_zero_continues_on_the_lines_below_with_every_digit():
+    tex = bessel_zeros(1, 2, 70)._repr_latex_()
+    with mpmath.workdps(90):
+        first = mpmath.nstr(mpmath.besseljzero(1, 1), 70)
+    lines = [line.rstrip(" \\") for line in tex.splitlines()]
+    k = next(i for i, line in enumerate(lines) if line.startswith("1 & "))
+    digits = lines[k][4:]
+    for line in lines[k + 1:]:
+        if not line.startswith(" & "):
+            break
+        digits += line[3:]
+    assert digits == first

@@ -481,7 +481,14 @@ def math_table(caption, header, rows):
     :func:`html_table` is its HTML twin."""
     spec = "r" + "l" * (len(header) - 1)
     lines = [f"\\begin{{array}}{{{spec}}}", " & ".join(header) + " \\\\", "\\hline"]
-    lines += [" & ".join(row) + " \\\\" for row in rows]
+    room = max(12, (LINE_WIDTH - 8) // len(header))
+    for row in rows:
+        # a run of digits wider than its share of the line continues on the lines below,
+        # the other cells of those lines empty
+        runs = [[c[i:i + room] for i in range(0, len(c), room)]
+                if re.fullmatch(r"[+-]?[0-9.]+", c) and len(c) > room else [c] for c in row]
+        for k in range(max(len(r) for r in runs)):
+            lines.append(" & ".join(r[k] if k < len(r) else "" for r in runs) + " \\\\")
     lines.append("\\end{array}")
     captions = [caption] if isinstance(caption, str) else list(caption)
     return gather(captions + ["\n".join(lines)])
