@@ -77,6 +77,8 @@ def _results():
         "QuarterPeriods (40 digits)": lambda: quarter_periods(3, 40),
         "ComparisonTable": lambda: stability.comparison([0, 0.1, "1/5"], "4/3",
                                                          ["exact", "eq12", "eq19"]),
+        "ComparisonTable (6 methods)": lambda: stability.comparison(
+            [0, 0.1], "4/3", ["exact", "eq12", "eq19", "eq19-corrected", "eq28", "series:4"]),
         "IdentityReport": lambda: check_identities(2, 15, [0.5, 3.0, 10.0]),
         "BranchPoint": lambda: branch_point("a1", 15),
         "SwingList": lambda: bessel.quarter_periods(4, 20),
@@ -438,3 +440,14 @@ def test_a_long_zero_continues_on_the_lines_below_with_every_digit():
             break
         digits += line[3:]
     assert digits == first
+
+
+def test_six_methods_are_two_arrays_of_three_with_every_cell():
+    table = stability.comparison([0, 0.1], "4/3",
+                                 ["exact", "eq12", "eq19", "eq19-corrected", "eq28", "series:4"])
+    tex = table._repr_latex_()
+    assert tex.count(r"\begin{array}") == 2 and "(part 2 of 2)" in tex
+    html = parse_table(table._repr_html_())
+    assert len(html.rows) == 2 and all(len(r) == 7 for r in html.rows)
+    for row in html.rows:   # every cell of the HTML row is in the LaTeX too
+        assert all(c.replace("---", r"\text{---}") in tex for c in row)

@@ -64,31 +64,30 @@ class QuarterPeriods:
     time_to_zero_length: str = None
     interlacing_checks: int = 0
 
-    def _table(self):
-        verdict = {True: "the claim holds (every margin positive)",
-                   False: "the claim fails (a margin is negative)",
-                   None: "no margin to decide the claim"}[self.claim_holds]
-        caption = (f"quarter periods of the {self.direction} string, {self.dps} digits",
-                   "(unit ", "|dL/dt|/(4g)", f"): {verdict}")
-        rows = [[str(k), self.inward[k] if k < len(self.inward) else "",
+    def _verdict(self):
+        return {True: "the claim holds (every margin positive)",
+                False: "the claim fails (a margin is negative)",
+                None: "no margin to decide the claim"}[self.claim_holds]
+
+    def _rows(self):
+        return [[str(k), self.inward[k] if k < len(self.inward) else "",
                  self.outward[k] if k < len(self.outward) else ""]
                 for k in range(max(len(self.inward), len(self.outward)))]
-        return caption, rows
 
     def _repr_latex_(self):
         """The inward and outward quarter periods as a table for a notebook
         (:func:`pendulab.latex.math_table`), with the verdict on the source's claim."""
         from pendulab.latex import math_table, text
-        caption, rows = self._table()
-        head, unit_open, _unit, verdict = caption
-        lines = [text(head), text(unit_open) + r"|\dot L|/(4g)" + text(verdict)]
-        return math_table(lines, ["k", text("inward"), text("outward")], rows)
+        lines = [text(f"quarter periods of the {self.direction} string, {self.dps} digits"),
+                 text("(unit ") + r"|\dot L|/(4g)" + text(f"): {self._verdict()}")]
+        return math_table(lines, ["k", text("inward"), text("outward")], self._rows())
 
     def _repr_html_(self):
         """The same table in HTML (:func:`pendulab.latex.html_table`), one row per k."""
         from pendulab.latex import html_table
-        caption, rows = self._table()
-        return html_table(caption[0] + " " + "".join(caption[1:]), ["k", "inward", "outward"], rows)
+        caption = (f"quarter periods of the {self.direction} string, {self.dps} digits "
+                   f"(unit |dL/dt|/(4g)): {self._verdict()}")
+        return html_table(caption, ["k", "inward", "outward"], self._rows())
 
 
 def direction_of(rate):

@@ -249,12 +249,24 @@ class ComparisonTable(dict):
         return "limits (lower, upper) of a/l" + (
             "" if ratio is None else f" for I/(m l^2) = {float(ratio):g}")
 
+    #: methods side by side in one array (a cell holds two limits: half the product's 6)
+    COLUMNS = 3
+
     def _repr_latex_(self):
-        """The table as display math (:func:`pendulab.latex.math_table`)."""
-        from pendulab.latex import math_table, text
-        header = [r"\omega_0/\omega"] + [text(m) for m in self["methods"]]
+        """The table as display math (:func:`pendulab.latex.math_table`), at most
+        :data:`COLUMNS` methods side by side (more go into further arrays below, each
+        caption saying which part), so that the LaTeX stays within the line."""
+        from pendulab.latex import chunks, math_table, part_note, text
         rows = [[r[0]] + [c.replace("---", r"\text{---}") for c in r[1:]] for r in self._rows()]
-        return math_table(self._caption(tex=True), header, rows)
+        groups = chunks(len(self["methods"]), self.COLUMNS)
+        out = []
+        for k, group in enumerate(groups):
+            header = [r"\omega_0/\omega"] + [text(self["methods"][j]) for j in group]
+            caption = self._caption(tex=True) + (text(part_note(k, len(groups)))
+                                                 if len(groups) > 1 else "")
+            out.append(math_table(caption, header, [[r[0]] + [r[1 + j] for j in group]
+                                                    for r in rows]))
+        return "\n".join(out)
 
     def _repr_html_(self):
         """The table in HTML (:func:`pendulab.latex.html_table`), one row per omega0/omega."""
