@@ -63,6 +63,21 @@ class PeriodicForm:
     note: str = ""
     frequency: sp.Expr = S.omega
 
+    def _repr_latex_(self):
+        """The equation in tau = Omega t/2 and, for Mathieu's, theta0 and theta1 (000 eqs. 5-7),
+        as one ``align*`` (the products' printer :func:`pendulab.latex.sum_rows`)."""
+        from pendulab.latex import align, sum_rows, text
+        names = {"mathieu": "Mathieu's equation (000 eq. 7)", "hill": "a Hill equation",
+                 "linear": "a linear equation, not periodic"}
+        omega = S.omega if self.frequency is None else self.frequency
+        rows = [r"&" + text(names.get(self.kind, self.kind) + ", ") + r"\tau = "
+                + sp.latex(omega * S.t / 2) + ":"]
+        rows += sum_rows("", self.equation, 0)
+        if self.kind == "mathieu":
+            rows += [r"\theta_0 &= " + sp.latex(self.theta0),
+                     r"\theta_1 &= " + sp.latex(self.theta1)]
+        return align(rows)
+
 
 def _exponential_spectrum(expr, var):
     """Write ``expr`` as sum c_k exp(i k var); return {k: c_k} or None.
@@ -241,6 +256,20 @@ class BesselForm:
     beta: sp.Expr = None
     k: sp.Expr = None
     p: sp.Expr = None
+
+    def _repr_latex_(self):
+        """The equation in L (002 eq. 7, multiplied out) and the generalised Bessel parameters
+        as one ``align*`` (the products' printer :func:`pendulab.latex.sum_rows`)."""
+        from pendulab.latex import align, sum_rows, text
+        rows = [r"&" + text("with L as the variable, dL/dt = ") + sp.latex(self.rate) + ":"]
+        rows += sum_rows("", self.euler_form, 0)
+        if self.alpha is None:
+            rows.append(r"&" + text("not of the generalised Bessel form"))
+        else:
+            rows.append(r"&\alpha = " + sp.latex(self.alpha) + r", \quad \beta = "
+                        + sp.latex(self.beta) + r", \quad k = " + sp.latex(self.k)
+                        + r", \quad p = " + sp.latex(self.p))
+        return align(rows)
 
 
 def length_form(equations):

@@ -81,6 +81,21 @@ class Equations:
     linear_about: sp.Expr
     newton: sp.Expr = None
 
+    def _repr_latex_(self):
+        """The Lagrangian, the equation of motion and its linearisation as one ``align*``
+        (a notebook shows it typeset), long sums broken by the products' printer
+        (:func:`pendulab.latex.sum_rows`)."""
+        from pendulab.latex import align, sum_rows, text
+        rows = [r"&" + text("Lagrangian T - V:")] + sum_rows(r"\mathcal{L}", self.lagrangian)
+        if self.newton is None:  # the driven pivot (000 eqs. 2-4)
+            rows += [r"&" + text("equation of motion (000 eq. 3):")] + sum_rows("", self.eom, 0)
+            rows.append(r"\omega_0^2 &= " + sp.latex(OMEGA0_SQUARED))
+        else:  # the variable length (002 eqs. 3-4)
+            rows += [r"&" + text("equation of motion (002 eq. 3):")] + sum_rows("", self.eom, 0)
+        rows += [r"&" + text("linearised about ") + r"\theta = " + sp.latex(self.linear_about)
+                 + ":"] + sum_rows("", self.linear, 0)
+        return align(rows)
+
 
 def g_of_omega0():
     """g solved from omega0^2 = m g l / I (000 eq. 3).

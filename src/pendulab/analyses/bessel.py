@@ -249,6 +249,18 @@ class BesselSolution:
         theta = self.general_z.subs(_z, z_of_var)
         return _simplified_residual(build(theta, theta.diff(var), theta.diff(var, 2)))
 
+    def _repr_latex_(self):
+        """The general solution in z and the initial-value solution (002) as one ``align*``,
+        as the product "equations" prints them; None (the plain repr) before :meth:`solve`."""
+        if not self._done:
+            return None
+        from pendulab.latex import align, sum_rows, text
+        rows = [r"&" + text("general solution in Bessel functions (002):")]
+        rows += sum_rows(r"\theta", self.general_z) + [r"z &= " + sp.latex(self.z_of_L)]
+        rows += [r"&" + text("with ") + r"\theta(0) = \theta_0,\ \dot\theta(0) = 0" + text(":"),
+                 r"\theta &= " + sp.latex(self.particular_z), r"z_0 &= " + sp.latex(self.z0)]
+        return align(rows)
+
     @property
     def solution(self):
         self._need()
@@ -282,10 +294,35 @@ def check_cross_product_numerically(n, z_values, dps=50):
 # Quarter periods (002, last part)
 # ---------------------------------------------------------------------------
 
+class SwingList(list):
+    """The list :func:`quarter_periods` returns (its records unchanged), which a notebook shows
+    as a table: one row per quarter period, in time order."""
+
+    def _rows(self):
+        import mpmath
+        return [[str(k + 1), r["from"], r["to"], r["direction"], mpmath.nstr(r["duration"], 15)]
+                for k, r in enumerate(self)]
+
+    _CAPTION = "quarter periods of the growing string in time order (unit v0/(4g))"
+    _TEX_CAPTION = r"\text{quarter periods of the growing string in time order (unit }v_0/(4g)\text{)}"
+
+    def _repr_latex_(self):
+        """The table as display math (:func:`pendulab.latex.math_table`)."""
+        from pendulab.latex import math_table, text
+        rows = [[k, text(a), text(b), text(d), v] for k, a, b, d, v in self._rows()]
+        return math_table(self._TEX_CAPTION, ["", text("from"), text("to"), text("swing"),
+                                                 text("duration")], rows)
+
+    def _repr_html_(self):
+        """The table in HTML (:func:`pendulab.latex.html_table`), one row per quarter period."""
+        from pendulab.latex import html_table
+        return html_table(self._CAPTION, ["", "from", "to", "swing", "duration"], self._rows())
+
+
 def quarter_periods(count=8, dps=30):
     """Quarter periods of the B = 0 solution of the growing string, in time order (002).
 
-    A list of ``count`` records (dicts: "from", "to", "direction" ("toward"
+    A list (a :class:`SwingList`) of ``count`` records (dicts: "from", "to", "direction" ("toward"
     equilibrium or "outward"), "z_from", "z_to", "duration" = difference of
     squares in the unit v0/(4 g)), numbers as mpmath mpf at ``dps`` digits.
     The zeros are pendulab's certified ones
@@ -299,7 +336,7 @@ def quarter_periods(count=8, dps=30):
     check_dps(dps)
     n = count // 2 + 3
     j1, j2 = bessel_zeros(1, n, dps).strings, bessel_zeros(2, n, dps).strings
-    out = []
+    out = SwingList()
     with mpmath.workdps(dps + 10):
         events = []
         for k in range(1, n):  # interlacing (proved in bessel_periods): j_2,k < j_1,k+1 < j_2,k+1

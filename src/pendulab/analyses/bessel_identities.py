@@ -109,6 +109,33 @@ class IdentityReport:
     agreements: int = 0
     limit_D: dict = field(default_factory=dict)
 
+    def _rows(self):
+        import mpmath
+        return [[engine, rule.replace("_", " "), mpmath.nstr(v[0], 3), mpmath.nstr(v[1], 6), str(v[2])]
+                for (engine, rule), v in sorted(self.by_rule.items())]
+
+    def _caption(self):
+        balls = "every arb ball contains its exact value" if self.arb_certified else \
+            "an arb ball misses its exact value"
+        return (f"worst relative errors of the identities at {self.dps} digits, n from 0 to "
+                f"{self.nmax}, {len(self.points)} points", balls)
+
+    def _repr_latex_(self):
+        """The worst error of each (engine, identity) as a table for a notebook
+        (:func:`pendulab.latex.math_table`), rounded as the product "bessel" rounds them."""
+        from pendulab.latex import math_table, number_tex, text
+        rows = [[text(e), text(r), number_tex(err), number_tex(z), n]
+                for e, r, err, z, n in self._rows()]
+        return math_table([text(line) for line in self._caption()],
+                          [text("engine"), text("identity"), text("error"), "z", "n"], rows)
+
+    def _repr_html_(self):
+        """The same table in HTML (:func:`pendulab.latex.html_table`), one row per
+        (engine, identity)."""
+        from pendulab.latex import html_table
+        return html_table("; ".join(self._caption()), ["engine", "identity", "error", "z", "n"],
+                          self._rows())
+
 
 def _note(rep, engine, rule, err, z, n):
     key = (engine, rule)

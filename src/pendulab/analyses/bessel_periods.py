@@ -64,6 +64,31 @@ class QuarterPeriods:
     time_to_zero_length: str = None
     interlacing_checks: int = 0
 
+    def _verdict(self):
+        return {True: "the claim holds (every margin positive)",
+                False: "the claim fails (a margin is negative)",
+                None: "no margin to decide the claim"}[self.claim_holds]
+
+    def _rows(self):
+        return [[str(k), self.inward[k] if k < len(self.inward) else "",
+                 self.outward[k] if k < len(self.outward) else ""]
+                for k in range(max(len(self.inward), len(self.outward)))]
+
+    def _repr_latex_(self):
+        """The inward and outward quarter periods as a table for a notebook
+        (:func:`pendulab.latex.math_table`), with the verdict on the source's claim."""
+        from pendulab.latex import math_table, text
+        lines = [text(f"quarter periods of the {self.direction} string, {self.dps} digits"),
+                 text("(unit ") + r"|\dot L|/(4g)" + text(f"): {self._verdict()}")]
+        return math_table(lines, ["k", text("inward"), text("outward")], self._rows())
+
+    def _repr_html_(self):
+        """The same table in HTML (:func:`pendulab.latex.html_table`), one row per k."""
+        from pendulab.latex import html_table
+        caption = (f"quarter periods of the {self.direction} string, {self.dps} digits "
+                   f"(unit |dL/dt|/(4g)): {self._verdict()}")
+        return html_table(caption, ["k", "inward", "outward"], self._rows())
+
 
 def direction_of(rate):
     """GROWING or SHORTENING from the sign of the canonical stage's rate dL/dt (a SymPy number

@@ -558,6 +558,24 @@ class ZeroSet:
     def order_text(self):
         return str(self.nu)
 
+    def _rows(self):
+        return [[str(k + 1), text] for k, text in enumerate(self.strings)]
+
+    def _repr_latex_(self):
+        """The zeros as a table for a notebook (:func:`pendulab.latex.math_table`): k and
+        j_nu,k to ``dps`` digits, as :func:`ball_digits` wrote them."""
+        from pendulab.latex import math_table, text
+        caption = (text("zeros of ") + f"J_{{{self.order_text}}}"
+                   + text(f", {self.dps} significant digits, every digit proved"))
+        return math_table(caption, ["k", f"j_{{{self.order_text},k}}"], self._rows())
+
+    def _repr_html_(self):
+        """The same table in HTML (:func:`pendulab.latex.html_table`), one row per zero."""
+        from pendulab.latex import html_table
+        caption = (f"zeros of $J_{{{self.order_text}}}$, {self.dps} significant digits, "
+                   "every digit proved")
+        return html_table(caption, ["k", f"$j_{{{self.order_text},k}}$"], self._rows())
+
 
 def bessel_zeros(nu, count, dps, extra_bits=0, window_bits=None):
     """The first ``count`` zeros of J_nu to ``dps`` significant digits, certified.

@@ -92,6 +92,21 @@ class BranchPoint(NamedTuple):
     digits: int
     size: int
 
+    def _repr_latex_(self):
+        """q, the double eigenvalue a and the radius |q| as one ``align*`` for a notebook (the
+        numbers at ``digits`` digits, as :func:`pendulab.analyses.floquet_format.number_text`
+        writes them; the radius is ``text``)."""
+        from pendulab.analyses.floquet_format import number_text
+        from pendulab.latex import align, gather, number_rows, number_tex, text
+        letter, m = self.kind[0], self.kind[1:]
+        rows = (number_rows("q", number_tex(number_text(self.q, self.digits)))
+                + number_rows("a", number_tex(number_text(self.a, self.digits)))
+                + [r"|q| &= " + self.text])
+        note = (text("branch point of ") + f"{letter}_{{{m}}}(q)" + text(" nearest to 0: the radius of "
+                "convergence of its series"))
+        return align(rows) + "\n" + gather([note, text(f"(matrix of {self.size} rows, "
+                                                        f"confirmed with {2 * self.size})")])
+
 
 def _check_digits(digits):
     if isinstance(digits, bool) or not isinstance(digits, int) or not 3 <= digits <= 200:

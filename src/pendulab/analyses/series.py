@@ -228,6 +228,22 @@ class MathieuSeries:
         # Same recursion with sines (000 eq. 22): identical coefficients.
         return self.c
 
+    def _repr_latex_(self):
+        """The coefficients alpha_n and C_{n,k} as the product "series" prints them
+        (:func:`pendulab.latex.mathieu_series_blocks`), for a notebook; None (no LaTeX, the
+        notebook shows the plain repr) beyond the order a LaTeX fragment goes to
+        (``pendulab.limits.LIMITS["latex.nu_order"]``: order 30 is about 560 pages)."""
+        from pendulab.latex import align, mathieu_series_blocks
+        from pendulab.limits import LIMITS
+        if self.order > LIMITS["latex.nu_order"][2]:
+            return None
+        head = align([
+            rf"\theta_0 &= \nu^2 + \sum_{{n=1}}^{{{self.order}}} \alpha_n \theta_1^n"
+            r" + O(\theta_1^{" + str(self.order + 1) + "})",
+            r"c_n(\tau) &= \sum_k C_{n,k} \cos((\nu + 2k)\tau)",
+            r"s_n(\tau) &= \sum_k C_{n,k} \sin((\nu + 2k)\tau)"])
+        return "\n".join([head] + mathieu_series_blocks(self))
+
     def theta0_expr(self, theta1=None):
         """nu^2 + sum_n alpha_n theta1^n as one SymPy expression (000 eq. 20 truncated)."""
         from pendulab import symbols as S
@@ -438,6 +454,14 @@ class CharacteristicSeries:
         self.radius = _table_radius(kind[0], int(kind[1:]))
         self._radius_text = _table_radius(kind[0], int(kind[1:]), text=True)
         self.radius_source = _radius_source(kind[0], int(kind[1:]))
+
+    def _repr_latex_(self):
+        """a_m(q) (or b_m(q)) and its exact coefficients as the product "series" prints them
+        (:func:`pendulab.latex.characteristic_series_block`), and the radius, for a notebook."""
+        from pendulab.latex import align, characteristic_series_block, text
+        radius = (text("radius of convergence not computed") if self.radius is None else
+                  r"\text{radius of convergence } |q| < " + str(self._radius_text))
+        return align([r"&" + radius]) + "\n" + characteristic_series_block(self)
 
     def as_expr(self, q=None):
         import sympy as sp

@@ -227,6 +227,53 @@ def limits(ratio, inertia_ratio=1, method="exact"):
     return _series(order, rho, r)
 
 
+class ComparisonTable(dict):
+    """The dict :func:`comparison` and :func:`scene_comparison` return (its keys unchanged),
+    which a notebook shows as a table: one row per omega0/omega, one column per method, each
+    cell "lower, upper" of a/l at 4 decimals ("---": no limit), as the product "stability"
+    rounds its LaTeX table."""
+
+    def _rows(self):
+        def cell(v):
+            return "---" if v is None else f"{v:.4f}"
+        return [[f"{rho:.3f}"] + [f"{cell(self['limits'][m][i][0])}, {cell(self['limits'][m][i][1])}"
+                                  for m in self["methods"]]
+                for i, rho in enumerate(self["w0_over_w"])]
+
+    def _caption(self, tex=False):
+        ratio = self.get("inertia_ratio")
+        if tex:
+            from pendulab.latex import text
+            return text("limits (lower, upper) of ") + "a/l" + (
+                "" if ratio is None else text(" for ") + f"I/(m l^2) = {float(ratio):g}")
+        return "limits (lower, upper) of a/l" + (
+            "" if ratio is None else f" for I/(m l^2) = {float(ratio):g}")
+
+    #: methods side by side in one array (a cell holds two limits: half the product's 6)
+    COLUMNS = 3
+
+    def _repr_latex_(self):
+        """The table as display math (:func:`pendulab.latex.math_table`), at most
+        :data:`COLUMNS` methods side by side (more go into further arrays below, each
+        caption saying which part), so that the LaTeX stays within the line."""
+        from pendulab.latex import chunks, math_table, part_note, text
+        rows = [[r[0]] + [c.replace("---", r"\text{---}") for c in r[1:]] for r in self._rows()]
+        groups = chunks(len(self["methods"]), self.COLUMNS)
+        out = []
+        for k, group in enumerate(groups):
+            header = [r"\omega_0/\omega"] + [text(self["methods"][j]) for j in group]
+            caption = self._caption(tex=True) + (text(part_note(k, len(groups)))
+                                                 if len(groups) > 1 else "")
+            out.append(math_table(caption, header, [[r[0]] + [r[1 + j] for j in group]
+                                                    for r in rows]))
+        return "\n".join(out)
+
+    def _repr_html_(self):
+        """The table in HTML (:func:`pendulab.latex.html_table`), one row per omega0/omega."""
+        from pendulab.latex import html_table
+        return html_table(self._caption(), ["omega0/omega"] + list(self["methods"]), self._rows())
+
+
 def comparison(ratios, inertia_ratio=1, methods=DEFAULT_METHODS, series_order=None):
     """Limits of a/l on a grid of omega0/omega for several methods (table data).
 
@@ -236,8 +283,8 @@ def comparison(ratios, inertia_ratio=1, methods=DEFAULT_METHODS, series_order=No
         {"inertia_ratio": r, "w0_over_w": [...], "methods": [...],
          "limits": {method: [[lower, upper], ...]}}
 
-    with None where a method has no limit.  All input problems are reported at
-    once.
+    with None where a method has no limit (a :class:`ComparisonTable`, a dict that a
+    notebook shows as a table).  All input problems are reported at once.
     """
     problems = []
     if isinstance(ratios, (str, bytes)) or not hasattr(ratios, "__iter__"):
@@ -276,7 +323,7 @@ def comparison(ratios, inertia_ratio=1, methods=DEFAULT_METHODS, series_order=No
     if problems:
         raise InputError("; ".join(problems))
     table = {m: [list(limits(rho, r, m)) for rho in grid] for m in names}
-    return {"inertia_ratio": r, "w0_over_w": grid, "methods": names, "limits": table}
+    return ComparisonTable(inertia_ratio=r, w0_over_w=grid, methods=names, limits=table)
 
 
 def reference_limits(ratio, inertia_ratio=1):
@@ -533,7 +580,7 @@ def scene_comparison(pmap, ratios, methods, groups=None):
         if method not in names:
             names.append(method)
     table = {m: [list(scene_limits(pmap, rho, m, groups)) for rho in grid] for m in names}
-    return {"w0_over_w": grid, "methods": names, "limits": table}
+    return ComparisonTable(w0_over_w=grid, methods=names, limits=table)
 
 
 def hill_limits(pmap, ratio, groups=None, top=HILL_SCAN_TOP, step=HILL_SCAN_STEP):

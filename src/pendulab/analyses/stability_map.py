@@ -93,7 +93,7 @@ def map_limits(pmap, point, dps=None, what="the limits", method=None):
             band = _proved_or_none(asked, lambda: _band_certified(th0, dps, what,
                                                                   scale=abs(scale)))
             if band is not None:
-                return band
+                return band.of("a/l")
 
     def band(ww):
         args = {k: _mp(v) for k, v in exact.items()}
@@ -101,7 +101,7 @@ def map_limits(pmap, point, dps=None, what="the limits", method=None):
         scale = abs(pmap.evaluate("scale", args, "mpmath"))
         lo, up = _first_band_mp(th0, ww)
         return lo * scale, up * scale
-    return _band_at_two_precisions(band, dps, what)
+    return _band_at_two_precisions(band, dps, what).of("a/l")
 
 
 def _exact_groups(pmap, exact):

@@ -206,11 +206,37 @@ class Limits(tuple):
     proved in ball arithmetic (None for the mpmath route and double precision)."""
 
     certified_digits = None
+    #: what the two ends bound, as LaTeX (``|\\theta_1|``, ``a/l``); None: not said
+    quantity = None
 
-    def __new__(cls, pair, certified_digits=None):
+    def __new__(cls, pair, certified_digits=None, quantity=None):
         obj = super().__new__(cls, pair)
         obj.certified_digits = certified_digits
+        obj.quantity = quantity
         return obj
+
+    def of(self, quantity):
+        """The same limits, saying that they bound ``quantity`` (LaTeX), as a new pair."""
+        return Limits(self, self.certified_digits, quantity)
+
+    def _repr_latex_(self):
+        """lower < quantity < upper and how many digits are proved, for a notebook (the numbers
+        as :func:`pendulab.analyses.floquet_format.number_text` writes them)."""
+        from pendulab.analyses.floquet_format import number_text
+        from pendulab.latex import LINE_WIDTH, align, gather, number_rows, number_tex, text, visible_width
+        digits = self.certified_digits
+        ends = [number_tex(number_text(x, None if isinstance(x, float) else (digits or 15)))
+                for x in self]
+        what = self.quantity or r"x"
+        if digits is None:
+            proof = "first stable band; certified digits not counted"
+        else:
+            proof = f"first stable band; {digits} significant digits of each end proved"
+        rows = [rf"{ends[0]} &< {what} < {ends[1]}"]
+        if visible_width(rows[0]) > LINE_WIDTH:  # each end on rows of its own
+            rows = (number_rows(text("lower end of ") + what, ends[0])
+                    + number_rows(text("upper end of ") + what, ends[1]))
+        return align(rows) + "\n" + gather([text(proof)])
 
 
 def first_band(theta0, dps=None, method=None):
@@ -246,9 +272,9 @@ def first_band(theta0, dps=None, method=None):
     if method == "arb":
         band = _proved_or_none(asked, lambda: _band_certified(X0, dps, f"first_band({theta0})"))
         if band is not None:
-            return band
+            return band.of(r"|\theta_1|")
     return _band_at_two_precisions(lambda ww: _first_band_mp(_mp(X0), ww), dps,
-                                   f"first_band({theta0})")
+                                   f"first_band({theta0})").of(r"|\theta_1|")
 
 
 def _band_certified(X0, dps, what, scale=None):

@@ -94,6 +94,26 @@ class FloquetResult:
         """Trace of the monodromy matrix, 2 cos(pi lam)."""
         return self.multipliers[0] + self.multipliers[1]
 
+    def _repr_latex_(self):
+        """lam and the multipliers (an ``align*``), the verdict below, for a notebook; the numbers
+        in full (:func:`pendulab.analyses.floquet_format.number_text`, what the floquet
+        command and product print) and, for method "arb", how many digits are proved."""
+        from pendulab.analyses.floquet_format import number_text
+        from pendulab.latex import align, gather, number_rows, number_tex, text
+        lam = number_tex(number_text(self.lam, self.dps))
+        up, down = (number_tex(number_text(m, self.dps)) for m in self.multipliers)
+        verdict = "on a characteristic curve, " if self.on_boundary else ""
+        verdict += "stable" if self.stable else "unstable"
+        if self.certified_digits is None:
+            proof = text(f"{verdict}; method {self.method}, no digit proved")
+        else:
+            # in a gap lam = e + i mu with e exact: the digits proved are mu's
+            part = "" if mpmath.im(self.lam) == 0 else "the imaginary part of "
+            proof = (text(f"{verdict}; {self.certified_digits} significant digits of {part}")
+                     + r"\lambda" + text(f" proved (method {self.method})"))
+        return (align(number_rows(r"\lambda", lam) + number_rows(r"e^{i \pi \lambda}", up)
+                      + number_rows(r"e^{-i \pi \lambda}", down)) + "\n" + gather([proof]))
+
 
 def _core(method, X0, X1, w):
     """One evaluation at dps w: returns (count, e, u, depth)."""
