@@ -1,0 +1,312 @@
+"""Each proof step of the ball-arithmetic engines is handed a wrong candidate and refuses it.
+
+The engines: the band count and the Sturm counts (pendulab.analyses.floquet._arb), the
+continued-fraction tails and the sign change that bracket u = (lam - e)^2, the digits a ball
+proves, the characteristic values and the first band's ends, and the adaptive-precision loop
+that accepts an answer (pendulab.analyses.floquet._precision).  Each step was switched off
+once (made to pass always) and the test that guards it was seen to fail; docs/certificates.md
+lists them.
+
+References, independent of the code under test:
+* the eigenvalues of the truncated DLMF 28.4.5-28.4.8 matrices (60 rows, far past where the
+  eigenvalues asked for move) by mpmath.eigsy at 50 digits;
+* the block determinant of 000 eq. 10 closed by 400 continued-fraction levels each side,
+  evaluated in plain mpmath at 60 digits (the neglected tail is below 10^-1000 there);
+* the trace of the monodromy matrix of 000 eq. 7 over one period pi, integrated by
+  mpmath.odefun (Taylor series) at 40 digits: 2 cos(pi lam).
+"""
+
+import functools
+from fractions import Fraction
+
+import mpmath
+import pytest
+from flint import acb, arb, ctx
+
+from pendulab.analyses.floquet import _arb, characteristic_exponent
+from pendulab.errors import PrecisionError
+
+
+@pytest.fixture(autouse=True)
+def _flint_precision():
+    saved = ctx.prec
+    yield
+    ctx.prec = saved
+
+
+# -- independent references ----------------------------------------------------------------
+
+@functools.lru_cache(maxsize=None)
+def family_eigenvalues(family, q, n=60, dps=50):
+    """Sorted eigenvalues of the n-row DLMF 28.4 matrix of ``family`` at q (a decimal string),
+    by mpmath.eigsy (the a_even matrix symmetrised by sqrt 2 in its first off-diagonal)."""
+    with mpmath.workdps(dps):
+        q = mpmath.mpf(q)
+        A = mpmath.zeros(n)
+        for i in range(n):
+            if family == "a_even":
+                d = (2 * i) ** 2
+            elif family == "b_even":
+                d = (2 * i + 2) ** 2
+            else:
+                d = mpmath.mpf((2 * i + 1) ** 2)
+                if i == 0:
+                    d += q if family == "a_odd" else -q
+            A[i, i] = d
+            if i:
+                A[i, i - 1] = A[i - 1, i] = q * (mpmath.sqrt(2) if family == "a_even" and i == 1
+                                                 else 1)
+        return tuple(sorted(mpmath.eigsy(A, eigvals_only=True)))
+
+
+def deep_block_value(th0, th1, u, M, depth=400, dps=60):
+    """f_e(u) of 000 eq. 10: the block m = -M, -M+2, ..., M of theta1 b_{m-2} +
+    (theta0 - (m + t)^2) b_m + theta1 b_{m+2} = 0 (t^2 = u), closed on each side by the
+    continued fraction of the minimal solution taken ``depth`` levels deep."""
+    with mpmath.workdps(dps):
+        th0, th1, u = mpmath.mpf(th0), mpmath.mpf(th1), mpmath.mpf(u)
+        t = mpmath.sqrt(u) if u >= 0 else mpmath.mpc(0, mpmath.sqrt(-u))
+
+        def C(m):
+            return th0 - (m + t) ** 2
+        right = left = 0
+        for m in range(M + 2 * depth, M, -2):
+            right = -th1 / (C(m) + th1 * right)
+        for m in range(-M - 2 * depth, -M, 2):
+            left = -th1 / (C(m) + th1 * left)
+        d = [C(m) for m in range(-M, M + 1, 2)]
+        d[0] += th1 * left
+        d[-1] += th1 * right
+        before, p = 1, d[0]
+        for dj in d[1:]:
+            before, p = p, dj * p - th1 ** 2 * before
+        return mpmath.re(p)
+
+
+@functools.lru_cache(maxsize=None)
+def monodromy_trace(th0, th1, dps=40):
+    """2 cos(pi lam): the trace of the monodromy matrix of 000 eq. 7 over [0, pi]."""
+    with mpmath.workdps(dps):
+        a, b = mpmath.mpf(th0), mpmath.mpf(th1)
+
+        def rhs(t, y):
+            return [y[1], -(a + 2 * b * mpmath.cos(2 * t)) * y[0]]
+        first = mpmath.odefun(rhs, 0, [1, 0])(mpmath.pi)
+        second = mpmath.odefun(rhs, 0, [0, 1])(mpmath.pi)
+        return first[0] + second[1]
+
+
+def ball(text):
+    """The decimal ``text`` as a ball at the current precision."""
+    return arb(text)
+
+
+def point(x):
+    """An exact input (Fraction) as a ball."""
+    return _arb.to_ball(Fraction(x))
+
+
+# -- the band count: Sturm counts of the four infinite matrices on balls --------------------
+
+def test_band_count_refuses_a_theta0_ball_that_holds_a_characteristic_value():
+    """theta0 within 10^-40 of a_0(q), q = -theta1 = 1: a ball of radius 10^-40 around it has
+    no decided count; the points 3 * 10^-40 below and above it count 0 and 1."""
+    ctx.prec = 300
+    a0 = family_eigenvalues("a_even", "1")[0]
+    with mpmath.workdps(60):
+        centre = ball(mpmath.nstr(a0, 55))
+        assert abs(a0 - mpmath.mpf(A0_Q1_TEXT)) < mpmath.mpf(10) ** -45
+    x1 = point(-1)
+    eps = arb(10) ** -40
+    assert _arb.band_count(centre + arb(0, 1) * eps, x1) is None
+    assert _arb.band_count(centre - 3 * eps, x1) == 0
+    assert _arb.band_count(centre + 3 * eps, x1) == 1
+    assert _arb.family_count("a_even", point(1), centre + arb(0, 1) * eps) is None
+
+
+# MathieuCharacteristicA[0, 1] to 56 digits (Wolfram|Alpha, the same value as the q = -1
+# reference of tests/test_floquet_arb.py; a_0 is even in q, DLMF 28.2.26)
+A0_Q1_TEXT = "-0.45513860410741354823263318752888586691651984219666547103"
+
+
+@pytest.mark.parametrize("family,q,x", [
+    ("a_even", "20", "3"),      # a pivot past |q| at row 1, but d_2 - x < 2|q|: rows remain
+    ("b_odd", "20", "3"),
+    ("a_even", "20", "-30"),    # d_2 - x > 2|q| at row 1, but the pivot there is below |q|
+    ("a_even", "20", "150"),
+    ("b_even", "20", "150"),
+])
+def test_sturm_count_goes_on_until_every_later_pivot_is_positive(family, q, x):
+    """The count stops at row n only when p_n > |q| and d_{n+1} - x > 2|q| (then every later
+    pivot exceeds |q|).  At these points either half of the rule alone stops too early and
+    misses an eigenvalue below x."""
+    ctx.prec = 200
+    expected = sum(1 for e in family_eigenvalues(family, q) if e < mpmath.mpf(x))
+    assert _arb.family_count(family, point(q), point(x)) == expected
+
+
+# -- the continued-fraction tails -----------------------------------------------------------
+
+@pytest.mark.parametrize("u,threshold", [
+    ("0.01", Fraction(1521, 200)),   # u > 0, t = 0.1: (4 - t)^2 = 15.21 = 2|theta1|
+    ("-0.01", Fraction(1599, 200)),  # u < 0, s = 0.1: 4^2 - s^2 = 15.99 = 2|theta1|
+    ("-25", Fraction(20)),           # u < 0, s = 5: the imaginary part, 4 s = 20 = 2|theta1|
+])
+def test_tail_condition_refuses_a_theta1_five_percent_past_its_bound(u, threshold):
+    """The tail ratios lie in the unit disk only where |C_j| >= 2|theta1| for every j beyond
+    the last level (j = 4 here, theta0 = 0): 5 % past the bound is refused, 5 % inside
+    accepted; a bound 10 times looser would accept both."""
+    ctx.prec = 200
+    U, x0 = point(u), point(0)
+    assert not _arb._tail_ok(4, U, x0, point(threshold * Fraction(105, 100)))
+    assert not _arb._tail_ok(4, U, x0, point(-threshold * Fraction(105, 100)))
+    assert _arb._tail_ok(4, U, x0, point(threshold * Fraction(95, 100)))
+    assert _arb._tail_ok(4, U, x0, point(-threshold * Fraction(95, 100)))
+
+
+def _disk_ball_without_the_check(u, x0, x1, M, T):
+    """What _value_ball would return if its tail condition were not checked."""
+    if u > 0:
+        g, _ = _arb.cf_kernel_t(u.sqrt(), x0, x1, M, T, tails=(arb(0, 1), arb(0, 1)),
+                                deriv=False)
+        return g
+    disk = acb(arb(0, 1), arb(0, 1))
+    g, _ = _arb.cf_kernel_t(acb(0, (-u).sqrt()), acb(x0), acb(x1), M, T, tails=(disk, disk),
+                            deriv=False)
+    return g.real
+
+
+@pytest.mark.parametrize("th0,th1,u,M", [("0", "3", "0.1", 0), ("1", "8", "0.1", 1),
+                                         ("0", "30", "0.1", 2)])
+def test_value_ball_refuses_a_tail_too_short_for_the_unit_disk(th0, th1, u, M):
+    """No level kept (T = 0) at large theta1: the neglected ratio need not lie in the unit
+    disk, and here it does not -- the ball the disk would give misses the true f_e(u).  The
+    tail check refuses it."""
+    ctx.prec = 200
+    x0, x1, U = point(th0), point(th1), point(u)
+    truth = ball(mpmath.nstr(deep_block_value(th0, th1, u, M), 50))
+    assert not _disk_ball_without_the_check(U, x0, x1, M, 0).overlaps(truth)   # a wrong ball
+    assert _arb._value_ball(U, x0, x1, M, 0) is None
+
+
+@pytest.mark.parametrize("u", ["0.01", "-0.01"])
+def test_value_ball_holds_the_deep_fraction_and_a_dropped_tail_does_not(u):
+    """theta0 = -0.002, theta1 = 0.2, block M = 4 with 2 levels kept: the ball carrying the
+    unit disk for the neglected tail contains f_e(u) of the 400-level fraction; the same
+    levels with the tail dropped (set to 0) give a ball that misses it."""
+    ctx.prec = 200
+    x0, x1, U = point("-0.002"), point("0.2"), point(u)
+    truth = ball(mpmath.nstr(deep_block_value("-0.002", "0.2", u, 4), 50))
+    got = _arb._value_ball(U, x0, x1, 4, 2)
+    assert got is not None and got.contains(truth)
+    assert got.rad() < 1e-2 * abs(truth.mid())
+    if U > 0:
+        dropped, _ = _arb.cf_kernel_t(U.sqrt(), x0, x1, 4, 2, deriv=False)
+    else:
+        dropped = _arb.cf_kernel_t(acb(0, (-U).sqrt()), acb(x0), acb(x1), 4, 2,
+                                   deriv=False)[0].real
+    assert not dropped.overlaps(truth)
+
+
+# -- the sign change that brackets u = (lam - e)^2 ------------------------------------------
+
+X0, X1 = Fraction(-2, 1000), Fraction(2, 10)     # band 0 (the source's Fig. 2 point)
+GAP = (Fraction(1), Fraction(1, 2))               # gap 1: lam = 1 + i mu
+
+
+def _lam_band0():
+    """lam of (X0, X1) from the monodromy trace: cos(pi lam) = trace / 2, lam in (0, 1)."""
+    with mpmath.workdps(40):
+        return mpmath.acos(monodromy_trace("-0.002", "0.2") / 2) / mpmath.pi
+
+
+def _prove_at(um, count=1, band=True, r0="1e-40"):
+    prec = _arb.bits_of(30) + _arb.loss_bits(float(X0), float(X1))
+    with _arb._Prec(prec + 16):
+        return _arb._prove(X0, X1, count, 0, band, arb(um), arb(r0), arb(r0), prec,
+                           float(X0), float(X1), arb(1000))
+
+
+def test_certified_lambda_ball_holds_the_monodromy_value():
+    ctx.prec = 200
+    lam_ref = _lam_band0()
+    lam, U, _ = _arb.certify(X0, X1, 1, 0, 0.0183, 30)
+    with mpmath.workdps(40):
+        assert lam.contains(ball(mpmath.nstr(lam_ref, 38)))
+        assert U.contains(ball(mpmath.nstr(lam_ref ** 2, 38)))
+    assert lam.rad() < arb(10) ** -30
+
+
+@pytest.mark.parametrize("offset", ["0.01", "-0.01", "1e-12"])
+def test_sign_change_refuses_a_bracket_beside_the_root(offset):
+    """The proof's bracket around a candidate u that is not the root (off by ``offset``,
+    start half-width 10^-40, widened by 2^10 at most five times) never changes sign: no
+    lam is returned, where a bracket believed without the sign test would give a ball that
+    misses the true lam."""
+    ctx.prec = 200
+    with mpmath.workdps(40):
+        u_true = _lam_band0() ** 2
+        um = mpmath.nstr(u_true + mpmath.mpf(offset), 40)
+    assert _prove_at(um) is None
+    got = _prove_at(mpmath.nstr(u_true, 40))      # the root itself passes
+    assert got is not None
+
+
+def test_sign_change_is_looked_for_only_on_the_side_the_count_names():
+    """A band point (u > 0) with the count of a gap (u < 0 asked), and a gap point with the
+    count of a band: no ball -- not the root on the other side, nor the square root of a
+    negative ball."""
+    ctx.prec = 200
+    assert _arb.certify(X0, X1, 0, 0, -0.0183, 30) is None
+    assert _arb.certify(*GAP, 3, 1, 0.0591, 30) is None
+    assert _arb.certify(*GAP, 2, 1, -0.0591, 30) is not None       # the right count passes
+
+
+def test_gap_ball_holds_the_monodromy_value():
+    """Gap 1 at (1, 1/2): lam = 1 + i mu, cos(pi lam) = -cosh(pi mu) = trace / 2."""
+    ctx.prec = 200
+    mu, U, _ = _arb.certify(*GAP, 2, 1, -0.0591, 30)
+    with mpmath.workdps(40):
+        ref = mpmath.acosh(-monodromy_trace("1", "0.5") / 2) / mpmath.pi
+        assert mu.contains(ball(mpmath.nstr(ref, 38)))
+    assert mu.rad() < arb(10) ** -30
+
+
+# -- the digits a ball proves -----------------------------------------------------------------
+
+def test_lam_text_refuses_a_ball_whose_ends_round_apart():
+    """0.1234567890|5 is the tie between two 10-digit decimals: a ball around it of radius
+    3 * 10^-16 (3 times its distance to the tie, 10^-16 above) has ends that round apart; the
+    same ball moved to 10^-15 above the tie (3 times its radius) proves the upper decimal."""
+    ctx.prec = 200
+    tie = ball("0.12345678905")
+    r = arb(10) ** -16
+    assert _arb.lam_text(tie + r + arb(0, 1) * 3 * r, 10) is None
+    assert _arb.lam_text(tie - r + arb(0, 1) * 3 * r, 10) is None
+    assert _arb.lam_text(tie + 10 * r + arb(0, 1) * 3 * r, 10) == "0.1234567891"
+    assert _arb.lam_text(tie - 10 * r + arb(0, 1) * 3 * r, 10) == "0.1234567890"
+
+
+def test_exponent_refuses_digits_its_ball_does_not_prove(monkeypatch):
+    """A proof that returns a ball 10^-20 wide when 30 digits are asked: no text at any
+    working precision, and characteristic_exponent raises instead of printing them."""
+    ctx.prec = 200
+    real = _arb.certify
+
+    def wide(*args, **kwargs):
+        got = real(*args, **kwargs)
+        if got is None:
+            return None
+        lam, U, depth = got
+        return lam + arb(0, 1) * arb(10) ** -20, U, depth
+    monkeypatch.setattr(_arb, "certify", wide)
+    assert _arb.exponent_at(X0, X1, 30, 40) is None
+    with pytest.raises(PrecisionError, match="cannot prove the digits"):
+        characteristic_exponent("-0.002", "0.2", dps=30, max_dps=100)
+
+
+def test_certified_digits_are_the_correctly_rounded_ones_of_the_monodromy_value():
+    r = characteristic_exponent("-0.002", "0.2", dps=30)
+    assert r.certified_digits == 30
+    with mpmath.workdps(40):
+        assert mpmath.nstr(r.lam, 30) == mpmath.nstr(_lam_band0(), 30)
