@@ -310,3 +310,204 @@ def test_certified_digits_are_the_correctly_rounded_ones_of_the_monodromy_value(
     assert r.certified_digits == 30
     with mpmath.workdps(40):
         assert mpmath.nstr(r.lam, 30) == mpmath.nstr(_lam_band0(), 30)
+
+
+# -- characteristic values and the ends of the first band: two Sturm counts ----------------
+
+def _shifted_newton(monkeypatch, shift=None, start=None, scale=None):
+    """_newton_on_pivots made to return a wrong candidate: its own root moved by ``shift``,
+    multiplied by ``scale``, or Newton's iteration begun at ``start`` (another root)."""
+    real = _arb._newton_on_pivots
+
+    def wrong(family, q, x, n, bits_list, var_is_q, begin):
+        got = real(family, q, x, n, bits_list, var_is_q, begin if start is None else start)
+        v, delta = got
+        with _arb._Prec(bits_list[-1] + 16):
+            if shift is not None:
+                v = v + arb(shift)
+            if scale is not None:
+                v = v * arb(scale)
+        return v, delta
+    monkeypatch.setattr(_arb, "_newton_on_pivots", wrong)
+
+
+def test_char_value_ball_holds_the_eigensolver_value():
+    ctx.prec = 200
+    text, got = _arb.char_value_at("a_even", 0, Fraction(1), 30, 40)
+    with mpmath.workdps(50):
+        ref = family_eigenvalues("a_even", "1")[0]
+        assert got.contains(ball(mpmath.nstr(ref, 48)))
+        assert text == mpmath.nstr(ref, 30)
+
+
+@pytest.mark.parametrize("shift", ["1e-20", "-1e-20"])
+def test_char_value_refuses_a_candidate_beside_the_eigenvalue(monkeypatch, shift):
+    """A candidate 10^-20 off a_0(1), 30 digits asked: the Sturm counts at the ends of every
+    bracket tried (at most 2^40 times 10^-40 wide) are not 0 and 1."""
+    _shifted_newton(monkeypatch, shift=shift)
+    assert _arb.char_value_at("a_even", 0, Fraction(1), 30, 40) is None
+
+
+def test_char_value_refuses_the_neighbouring_eigenvalue(monkeypatch):
+    """Newton's iteration begun at the double nearest to a_2(1) = 4.3713... (eigensolver)
+    when a_0 is asked (a shifted index): the counts there are 1 and 2, and no ball is
+    returned; the same candidate proves a_2 when a_2 is asked."""
+    _shifted_newton(monkeypatch, start=float(family_eigenvalues("a_even", "1")[1]))
+    assert _arb.char_value_at("a_even", 0, Fraction(1), 30, 40) is None
+    ctx.prec = 200
+    text, got = _arb.char_value_at("a_even", 1, Fraction(1), 30, 40)   # it is a_2
+    with mpmath.workdps(50):
+        assert got.contains(ball(mpmath.nstr(family_eigenvalues("a_even", "1")[1], 48)))
+
+
+def test_mathieu_a_by_arb_raises_where_nothing_is_proved_and_the_default_falls_back(monkeypatch):
+    """Every candidate wrong: method "arb" asked raises PrecisionError (no digits claimed);
+    the default route falls back on the mpmath route, which gives the published value."""
+    from pendulab.analyses.floquet import mathieu_a
+    _shifted_newton(monkeypatch, shift="1e-8")
+    with pytest.raises(PrecisionError):
+        mathieu_a(0, 1, dps=30, method="arb")
+    with mpmath.workdps(40):
+        assert abs(mathieu_a(0, 1, dps=30) - mpmath.mpf(A0_Q1_TEXT)) < mpmath.mpf(10) ** -30
+
+
+def _a0_at(q_text):
+    return family_eigenvalues("a_even", q_text)[0]
+
+
+def test_band_end_ball_holds_the_crossing_and_refuses_a_moved_one(monkeypatch):
+    """theta0 = -1/100: the ball [q_lo, q_hi] of the lower end of the first band has
+    a_0(q_lo) >= theta0 > a_0(q_hi) by the eigensolver (a_0 decreases in q > 0); a candidate
+    moved by 10^-20 of itself is refused."""
+    ctx.prec = 200
+    X = Fraction(-1, 100)
+    start = _arb.band_end_guess("a_even", float(X))
+    got, _ = _arb.band_end_ball("a_even", X, 40, start)
+    with mpmath.workdps(50):
+        lo, hi = (mpmath.nstr(mpmath.mpf(v.str(60, radius=False)), 50)
+                  for v in (arb(got.lower()), arb(got.upper())))
+        assert _a0_at(lo) >= mpmath.mpf(X.numerator) / X.denominator > _a0_at(hi)
+    assert got.rad() < arb(10) ** -38
+    _shifted_newton(monkeypatch, scale="1.00000000000000000001")
+    assert _arb.band_end_ball("a_even", X, 40, start) is None
+
+
+def test_nearest_double_refuses_a_ball_across_a_rounding_tie():
+    """1 + 2^-53 is the tie between 1 and its successor: a ball 3 * 2^-60 wide around a point
+    2^-60 above the tie rounds both ways and proves no double; moved 2^-57 above (or below)
+    it proves the successor (or 1)."""
+    ctx.prec = 200
+    tie = arb(1) + arb(2) ** -53
+    r = arb(2) ** -60
+    assert _arb.nearest_double(tie + r + arb(0, 1) * 3 * r) is None
+    assert _arb.nearest_double(tie + 8 * r + arb(0, 1) * 3 * r) == 1 + 2 ** -52
+    assert _arb.nearest_double(tie - 8 * r + arb(0, 1) * 3 * r) == 1.0
+
+
+def test_first_band_by_arb_in_double_precision_raises_where_no_double_is_proved(monkeypatch):
+    from pendulab.analyses.floquet import _charvalues, first_band
+    _charvalues._ENDS.clear()
+    monkeypatch.setattr(_arb, "nearest_double", lambda b: None)
+    with pytest.raises(PrecisionError, match="not proved to double precision"):
+        first_band("-1/100", method="arb")
+    lo, up = first_band("-1/100")           # the default falls back on the mpmath route
+    assert abs(lo - 0.1415759161) < 1e-10 and abs(up - 0.9164371642) < 1e-10
+    _charvalues._ENDS.clear()
+
+
+# -- the branch points of a_m(q), b_m(q) ------------------------------------------------------
+
+@pytest.fixture
+def a0_point():
+    from pendulab.analyses import mathieu_branch as mb
+    return mb.branch_point("a0", digits=30)
+
+
+@pytest.mark.parametrize("which", ["q", "a"])
+def test_branch_point_check_refuses_a_candidate_three_times_past_its_tolerance(a0_point, which):
+    """digits = 20: q or a moved by 3 * 10^-20 of itself is refused by the size of Newton's
+    correction; a moved by 3 * 10^-21 passes (a tolerance 10 times looser would let 3 * 10^-20
+    through the Newton test, and q's would then be refused for its pair, not its correction)."""
+    from pendulab.analyses import mathieu_branch as mb
+    from pendulab.errors import ConvergenceError
+    p = a0_point
+    with mpmath.workdps(40):
+        bad = 1 + 3 * mpmath.mpf(10) ** -20
+        q, a = (p.q * bad, p.a) if which == "q" else (p.q, p.a * bad)
+        with pytest.raises(ConvergenceError, match="Newton's correction"):
+            mb.check_branch_point("a0", q, a, digits=20)
+        rel = mb.check_branch_point("a0", p.q, p.a * (1 + 3 * mpmath.mpf(10) ** -21), digits=20)
+        assert 1e-21 < rel < 1e-20
+
+
+def test_branch_point_pair_test_refuses_eigenvalues_three_times_too_far_apart(a0_point):
+    """q moved by 3 * 10^-21: Newton's correction (3e-21) passes at 20 digits, but the two
+    eigenvalues nearest to a_b are c sqrt(3e-21 |q|) = 3.1e-10 apart, 1.5 times the
+    10^-10 |a_b| = 2.1e-10 allowed; moved by 3 * 10^-23 they are 3.1e-11 apart and pass."""
+    from pendulab.analyses import mathieu_branch as mb
+    from pendulab.errors import ConvergenceError
+    p = a0_point
+    with mpmath.workdps(40):
+        with pytest.raises(ConvergenceError, match="apart"):
+            mb.check_branch_point("a0", p.q * (1 + 3 * mpmath.mpf(10) ** -21), p.a, digits=20)
+        mb.check_branch_point("a0", p.q * (1 + 3 * mpmath.mpf(10) ** -23), p.a, digits=20)
+
+
+def test_branch_point_refuses_two_truncations_that_disagree(monkeypatch, a0_point):
+    """_refine's second Newton (2N rows, digits + 22) made to land 3 * 10^-(digits + 2) of
+    |q| away from the first: refused; 3 * 10^-(digits + 3) away: accepted."""
+    from pendulab.analyses import mathieu_branch as mb
+    from pendulab.errors import ConvergenceError
+    p = a0_point
+    real = mb._newton_mp
+    moved = {}
+
+    def second_moved(rows, a, q, digits, iterations=30):
+        a, q = real(rows, a, q, digits, iterations)
+        moved["n"] = moved.get("n", 0) + 1
+        if moved["n"] == 2:
+            q = q * (1 + moved["by"])
+        return a, q
+    monkeypatch.setattr(mb, "_newton_mp", second_moved)
+    for by, refused in (("3e-17", True), ("3e-18", False)):
+        moved.clear()
+        moved["by"] = mpmath.mpf(by)
+        if refused:
+            with pytest.raises(ConvergenceError, match="changes with the truncation"):
+                mb._refine("a", 0, complex(p.q), complex(p.a), 15)
+        else:
+            mb._refine("a", 0, complex(p.q), complex(p.a), 15)
+
+
+def test_branch_point_refuses_a_refined_point_that_fails_the_check(monkeypatch):
+    """The point _refine returns moved by 10^-12 of itself: the final check refuses it and
+    no radius is returned."""
+    from pendulab.analyses import mathieu_branch as mb
+    from pendulab.errors import ConvergenceError
+    real = mb._refine
+
+    def moved(letter, m, q0, a0, digits):
+        a, q, n = real(letter, m, q0, a0, digits)
+        return a, q * (1 + mpmath.mpf(10) ** -12), n
+    mb._branch.cache_clear()
+    monkeypatch.setattr(mb, "_refine", moved)
+    try:
+        with pytest.raises(ConvergenceError, match="not a branch point"):
+            mb.branch_point("a0", digits=12)
+    finally:
+        mb._branch.cache_clear()
+
+
+def test_radii_table_check_sees_a_changed_digit_and_a_missing_row(monkeypatch, capsys):
+    """`python -m pendulab.analyses.mathieu_branch --check` against a fresh table that differs
+    from the shipped file in one digit, or lacks one kind: exit 1; the same text: exit 0."""
+    from pathlib import Path
+    from pendulab.analyses import mathieu_branch as mb, mathieu_radii
+    shipped = Path(mathieu_radii.__file__).read_text()
+    one_digit = shipped.replace('"a0": ("1.46876861378514"', '"a0": ("1.46876861378515"')
+    no_row = "".join(line for line in shipped.splitlines(True) if '"b7":' not in line)
+    assert one_digit != shipped and no_row != shipped
+    for text, status in ((shipped, 0), (one_digit, 1), (no_row, 1)):
+        monkeypatch.setattr(mb, "table_source", lambda text=text: text)
+        assert mb._main(["--check"]) == status
+    assert "differs from a fresh computation" in capsys.readouterr().out
