@@ -185,3 +185,32 @@ def test_inverse_refuses_a_characteristic_function_without_a_root(monkeypatch):
     monkeypatch.setattr(_cf._CF, "__call__", lambda self, u, x0=None: mpmath.mpf(1))
     with pytest.raises(ConvergenceError, match="no root of the characteristic function"):
         _inverse._theta0_of_exponent_mp(Fraction(3, 10), Fraction(1, 2), Fraction(1, 2), 30)
+
+
+def test_free_exponent_claims_certified_digits_only_where_the_ball_proves_them(monkeypatch):
+    """theta1 = 0: lam = sqrt(theta0) (2/3 here) is proved digit by digit from a ball; where no
+    ball proves the digits, certified_digits is None (the value is still the exact root)."""
+    r = characteristic_exponent("4/9", 0, dps=30)
+    assert r.certified_digits == 30
+    with mpmath.workdps(40):
+        assert mpmath.nstr(r.lam, 30) == mpmath.nstr(mpmath.mpf(2) / 3, 30)
+    monkeypatch.setattr(_arb, "lam_text", lambda ball, digits: None)
+    r = characteristic_exponent("4/9", 0, dps=30)
+    assert r.certified_digits is None
+    with mpmath.workdps(30):
+        assert abs(r.lam - mpmath.mpf(2) / 3) < mpmath.mpf(10) ** -30
+
+
+# -- exact rational functions of the series: a factor cancels only where it divides ----------
+
+def test_reduce_cancels_a_factor_only_where_the_numerator_vanishes():
+    """(nu + 3)(nu + 1) / (2 (nu + 1)^2 (nu + 2)) keeps one factor (nu + 1) and (nu + 2);
+    (nu + 5) / (nu + 1) keeps its factor.  Values checked with Fractions at nu = 1/7."""
+    from pendulab.analyses.series_ratfun import RatFun, reduce
+    nu = Fraction(1, 7)
+    x = RatFun((3, 4, 1), 2, ((1, 2), (2, 1)))           # nu^2 + 4 nu + 3 = (nu + 1)(nu + 3)
+    r = reduce(x)
+    assert r.exps == ((1, 1), (2, 1)) and r.num == (3, 1) and r.den == 2
+    assert r.evaluate(nu) == (nu + 3) * (nu + 1) / (2 * (nu + 1) ** 2 * (nu + 2))
+    y = reduce(RatFun((5, 1), 1, ((1, 1),)))
+    assert y.exps == ((1, 1),) and y.evaluate(nu) == (nu + 5) / (nu + 1)
