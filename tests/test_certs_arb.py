@@ -262,6 +262,30 @@ def test_sign_change_is_looked_for_only_on_the_side_the_count_names():
     assert _arb.certify(*GAP, 2, 1, -0.0591, 30) is not None       # the right count passes
 
 
+@pytest.mark.parametrize("e,u0", [(2, 0.0183), (-1, 0.748), (-2, 0.0183)])
+def test_sign_change_refuses_an_edge_the_band_count_does_not_name(e, u0):
+    """Band 0 (count 1) names the edges 0 and 1 only.  f_e depends on e only through its
+    parity, so edge 2 has the same root u = t^2 and edge -1 the root (1 - t)^2: read with
+    lam = e -+ sqrt(u) they gave "proved" balls 1.8648 and -1.8648, which miss the
+    monodromy value 0.1352 of the band.  Refused; the edges 0 and 1 give balls that hold it."""
+    ctx.prec = 200
+    lam_ref = _lam_band0()
+    assert _arb.certify(X0, X1, 1, e, u0, 30) is None
+    with mpmath.workdps(40):
+        ref = ball(mpmath.nstr(lam_ref, 38))
+    for edge, start in ((0, 0.0183), (1, 0.748)):
+        lam, _, _ = _arb.certify(X0, X1, 1, edge, start, 30)
+        assert lam.contains(ref)
+
+
+def test_gap_proof_refuses_an_edge_the_gap_count_does_not_name():
+    """Gap 1 (count 2) has lam = 1 + i mu: edge 3 (the same parity) finds the same mu and
+    would report lam = 3 + i mu; refused."""
+    ctx.prec = 200
+    assert _arb.certify(*GAP, 2, 3, -0.0591, 30) is None
+    assert _arb.certify(*GAP, 2, 1, -0.0591, 30) is not None
+
+
 def test_gap_ball_holds_the_monodromy_value():
     """Gap 1 at (1, 1/2): lam = 1 + i mu, cos(pi lam) = -cosh(pi mu) = trace / 2."""
     ctx.prec = 200
