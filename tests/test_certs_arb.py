@@ -36,6 +36,11 @@ def _flint_precision():
 
 # -- independent references ----------------------------------------------------------------
 
+# MathieuCharacteristicA[0, 1] to 56 digits (Wolfram|Alpha, the same value as the q = -1
+# reference of tests/test_floquet_arb.py; a_0 is even in q, DLMF 28.2.26)
+A0_Q1_TEXT = "-0.45513860410741354823263318752888586691651984219666547103"
+
+
 @functools.lru_cache(maxsize=None)
 def family_eigenvalues(family, q, n=60, dps=50):
     """Sorted eigenvalues of the n-row DLMF 28.4 matrix of ``family`` at q (a decimal string),
@@ -122,11 +127,6 @@ def test_band_count_refuses_a_theta0_ball_that_holds_a_characteristic_value():
     assert _arb.band_count(centre - 3 * eps, x1) == 0
     assert _arb.band_count(centre + 3 * eps, x1) == 1
     assert _arb.family_count("a_even", point(1), centre + arb(0, 1) * eps) is None
-
-
-# MathieuCharacteristicA[0, 1] to 56 digits (Wolfram|Alpha, the same value as the q = -1
-# reference of tests/test_floquet_arb.py; a_0 is even in q, DLMF 28.2.26)
-A0_Q1_TEXT = "-0.45513860410741354823263318752888586691651984219666547103"
 
 
 @pytest.mark.parametrize("family,q,x", [
