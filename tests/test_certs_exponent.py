@@ -214,3 +214,54 @@ def test_reduce_cancels_a_factor_only_where_the_numerator_vanishes():
     assert r.evaluate(nu) == (nu + 3) * (nu + 1) / (2 * (nu + 1) ** 2 * (nu + 2))
     y = reduce(RatFun((5, 1), 1, ((1, 1),)))
     assert y.exps == ((1, 1),) and y.evaluate(nu) == (nu + 5) / (nu + 1)
+
+
+# -- every mpmath route accepts only two precisions that agree -------------------------------
+
+def _every_second_moved(monkeypatch, module, name, by):
+    """module.name made to return, at every second call, its value moved by ``by`` times
+    10^-(want + 2) max(1, |value|) (want = 20), each member of a tuple alike."""
+    real = getattr(module, name)
+    calls = []
+
+    def moved(*args, **kwargs):
+        value = real(*args, **kwargs)
+        calls.append(1)
+        if len(calls) % 2:
+            return value
+        with mpmath.workdps(300):      # the value carries its working precision
+            shift = mpmath.mpf(by) * mpmath.mpf(10) ** -22
+
+            def one(v):
+                return v + shift * max(1, abs(v))
+            return tuple(one(v) for v in value) if isinstance(value, tuple) else one(value)
+    monkeypatch.setattr(module, name, moved)
+
+
+def _routes():
+    from pendulab.analyses.floquet import _charvalues, _inverse, first_band, mathieu_a
+    from pendulab.analyses.floquet import theta0_of_exponent
+    return [
+        (_inverse, "_theta0_of_exponent_mp",
+         lambda: theta0_of_exponent("0.3", "0.5", dps=20)),
+        (_charvalues, "_char_value_mp", lambda: mathieu_a(0, 1, dps=20, method="mpmath")),
+        (_charvalues, "_first_band_mp", lambda: first_band("-1/100", dps=20, method="mpmath")),
+    ]
+
+
+@pytest.mark.parametrize("route", range(3), ids=["inverse", "mathieu_a", "first_band"])
+def test_mpmath_routes_refuse_two_precisions_three_times_past_the_tolerance(monkeypatch, route):
+    """theta0_of_exponent, mathieu_a and first_band by mpmath at dps = 20, their two working
+    precisions made to differ by 3 times 10^-22 (relative above 1): PrecisionError; by a third
+    of it: accepted."""
+    from pendulab.analyses.floquet import _charvalues
+    module, name, call = _routes()[route]
+    _charvalues._BANDS.clear()
+    _every_second_moved(monkeypatch, module, name, 3)
+    with pytest.raises(PrecisionError):
+        call()
+    monkeypatch.undo()
+    _charvalues._BANDS.clear()
+    _every_second_moved(monkeypatch, module, name, "0.3")
+    assert call() is not None
+    _charvalues._BANDS.clear()
