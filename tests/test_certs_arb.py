@@ -535,3 +535,23 @@ def test_radii_table_check_sees_a_changed_digit_and_a_missing_row(monkeypatch, c
         monkeypatch.setattr(mb, "table_source", lambda text=text: text)
         assert mb._main(["--check"]) == status
     assert "differs from a fresh computation" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("letter,m", [("a", 0), ("a", 1)])
+def test_branch_point_is_put_on_the_axis_only_within_its_rounding(letter, m):
+    """At dps 40 a real part up to 10^-32 |q| is rounding and the point is put on the
+    imaginary axis; 3 * 10^-32 |q| is kept (a rule 10 times looser would snap it too), as is
+    the image with Im q > 0 (and Re q >= 0 for the even a_0)."""
+    from pendulab.analyses import mathieu_branch as mb
+    with mpmath.workdps(40):
+        y = mpmath.mpf("1.46876861378514")
+        for by, snapped in (("0.3e-32", True), ("3e-32", False)):
+            q = mpmath.mpc(mpmath.mpf(by) * y, y)
+            got, _ = mb._representative(letter, m, q, mpmath.mpc(2, 0))
+            assert (got.real == 0) == snapped
+            assert got.imag == y
+        # q = -1 - 2i: the image asked for is 1 + 2i (a_0, even in q) or -1 + 2i (a_1); the
+        # even kind's image was -(conj q) = 1 - 2i, below the axis, before the order was fixed
+        got, a = mb._representative(letter, m, mpmath.mpc(-1, -2), mpmath.mpc(2, 1))
+        assert got == (mpmath.mpc(1, 2) if m % 2 == 0 else mpmath.mpc(-1, 2))
+        assert a == (mpmath.mpc(2, 1) if m % 2 == 0 else mpmath.mpc(2, -1))
