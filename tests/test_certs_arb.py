@@ -145,6 +145,18 @@ def test_sturm_count_goes_on_until_every_later_pivot_is_positive(family, q, x):
     assert _arb.family_count(family, point(q), point(x)) == expected
 
 
+@pytest.mark.parametrize("family,q,x", [("a_even", "1", "0"), ("b_odd", "1", "0"),
+                                         ("a_odd", "-1", "0"), ("b_even", "1", "4")])
+def test_sturm_count_reads_an_exactly_zero_pivot_as_its_limit(family, q, x):
+    """x exactly the first diagonal entry (0, 1 - q = 0, 1 + q = 0, 4) makes the first pivot
+    exactly 0: the count is that of the eigenvalues below x all the same (one of them, a_0(1),
+    b_1(1), a_1(-1), b_2(1) below it), not a refusal and not a count off by one."""
+    ctx.prec = 200
+    expected = sum(1 for e in family_eigenvalues(family, q) if e < mpmath.mpf(x))
+    assert expected == 1
+    assert _arb.family_count(family, point(q), point(x)) == expected
+
+
 # -- the continued-fraction tails -----------------------------------------------------------
 
 @pytest.mark.parametrize("u,threshold", [
