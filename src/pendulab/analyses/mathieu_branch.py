@@ -301,10 +301,12 @@ def _representative(letter, m, q, a):
     tiny = mpmath.mpf(10) ** (-(mpmath.mp.dps - 8)) * abs(q)
     if abs(q.real) < tiny:          # on the imaginary axis, to the working precision
         q, a = mpmath.mpc(0, q.imag), mpmath.mpc(a.real, 0) if abs(a.imag) < tiny else a
-    if q.imag < 0:
-        q, a = mpmath.conj(q), mpmath.conj(a)
+    # -q first (it changes the sign of Im q, a stays: the matrix at -q is similar to the one
+    # at q), then the conjugate (Re q kept)
     if m % 2 == 0 and q.real < 0:
         q = -q
+    if q.imag < 0:
+        q, a = mpmath.conj(q), mpmath.conj(a)
     return q, a
 
 

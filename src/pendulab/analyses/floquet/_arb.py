@@ -34,7 +34,7 @@ C_m = theta0 - (m + t)^2, m = 2n + e, t = lam - e (000 eqs. 8-10).
    (-inf, 1) because (-1)^e cos(pi sqrt(u)) is strictly monotone there and
    f_e(u) = 0 exactly when cos(pi (e + sqrt u)) = cos(pi lam).  The band
    count then fixes lam = k + sqrt(u) (e = k), k + 1 - sqrt(u) (e = k + 1) or
-   k + i sqrt(-u) (gap), a ball.
+   k + i sqrt(-u) (gap, e = k), a ball; any other e is refused.
 6. **Digits**: the ball of lam is printed to ``dps`` digits only when both ends
    round to the same decimal (:func:`pendulab.analyses.bessel_zeros.ball_digits`);
    otherwise the precision grows (:mod:`._precision`).
@@ -552,7 +552,14 @@ def _prove(X0, X1, count, e, band, um, ad, r0, prec, x0f, x1f, slope):
     about ``slope``).  A ball f containing 0 widens the bracket to what its radius asks
     (16 rad / slope); if the bracket was that wide already, the tail is doubled once
     (the disk contracts more slowly than the fraction converges when |theta1| is
-    large); equal signs at both ends (the root outside) widen it by 2^10."""
+    large); equal signs at both ends (the root outside) widen it by 2^10.
+
+    Only the edges the count names are read: f_e depends on e through its parity
+    alone, so an edge k + 2 (or k - 1) has the same root and would turn it into
+    k + 2 - sqrt(u), a number outside the band; such an e is refused (None)."""
+    k = (count - 1) // 2 if band else count // 2
+    if e not in ((k, k + 1) if band else (k,)):
+        return None
     with _Prec(prec + 16):
         x0, x1 = to_ball(X0), to_ball(X1)
         M, T = _depths(x0f, x1f, e, prec / 3.32 + 2)
