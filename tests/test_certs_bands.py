@@ -1,0 +1,300 @@
+"""The proof steps of the double-precision band edges and of the stability map, each fed a
+wrong candidate: a perturbed value, a swapped pair, a value past the truncation, a table
+with a missing edge, a cell next to an edge.  Each test must see the step refuse (an
+exception, a NaN width, the candidate replaced) or flag (a cell left to the exact verdict,
+a warning).
+
+Reference values: the characteristic values a_n(q), b_n(q) as eigenvalues of the four
+symmetric tridiagonal matrices of DLMF 28.4.5-28.4.8 (recurrences for the Fourier
+coefficients of ce_n, se_n), built here from the DLMF text, truncated to 30 rows and solved
+by mpmath.eigsy at 30 digits; the neglected tail changes them by far less than 1e-25 for
+|q| <= 5 and values below 40 (the eigenvector components decay like q^j/(j!)^2).  This is
+neither the double-precision Newton nor the Sturm counts under test.
+"""
+
+from functools import lru_cache
+
+import mpmath
+import numpy as np
+import pytest
+
+from pendulab.analyses.floquet import _bands as B
+from pendulab.analyses.floquet import _vectorised as V
+from pendulab.analyses.stability_map import _classify
+from pendulab.errors import AccuracyWarning, PrecisionError
+
+
+@lru_cache(maxsize=None)
+def reference_family(family, q, rows=30, dps=30):
+    """Sorted eigenvalues (mpf) of the DLMF 28.4 matrix of ``family`` at q (30 rows, 30 digits).
+
+    a_even: a_{2j}, diagonal (2j)^2, off-diagonal q with sqrt(2) q in the first place
+    (DLMF 28.4.5 symmetrised); a_odd: a_{2j+1}, diagonal (2j+1)^2 with 1 + q first
+    (28.4.6); b_odd: b_{2j+1}, 1 - q first (28.4.7); b_even: b_{2j+2}, (2j+2)^2 (28.4.8)."""
+    with mpmath.workdps(dps):
+        qm = mpmath.mpf(q)
+        first = {"a_even": 0, "a_odd": 1, "b_odd": 1, "b_even": 2}[family]
+        M = mpmath.zeros(rows)
+        for j in range(rows):
+            M[j, j] = mpmath.mpf(2 * j + first) ** 2
+            if j + 1 < rows:
+                M[j, j + 1] = M[j + 1, j] = qm
+        if family == "a_even":
+            M[0, 1] = M[1, 0] = mpmath.sqrt(2) * qm
+        elif family == "a_odd":
+            M[0, 0] += qm
+        elif family == "b_odd":
+            M[0, 0] -= qm
+        ev = mpmath.eigsy(M, eigvals_only=True)
+        return tuple(sorted(ev[i] for i in range(rows)))
+
+
+def reference_values(q, top):
+    """All characteristic values a_n(|q|), b_n(|q|) below top, sorted (mpf)."""
+    out = []
+    for fam in B.FAMILIES:
+        out += [v for v in reference_family(fam, abs(float(q))) if v < top]
+    return sorted(out)
+
+
+# ---------------------------------------------------------------------------
+# Sturm counts at the working precision (_bands._edge_count, the band index of
+# characteristic_exponent)
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("q", [0.7, 2.5])
+def test_edge_count_steps_by_one_across_each_reference_value(q):
+    # theta0 = e_k -+ 1e-20 must count k and k + 1 values below it: a count that is off by
+    # one (a shifted index) or does not see the off-diagonal (q = 0 counts) fails here
+    vals = reference_values(q, 30)
+    assert len(vals) >= 8
+    with mpmath.workdps(30):
+        for k, e in enumerate(vals):
+            eps = mpmath.mpf(10) ** -20
+            assert B._edge_count(e - eps, mpmath.mpf(-q), 30) == k, (q, k)
+            assert B._edge_count(e + eps, mpmath.mpf(-q), 30) == k + 1, (q, k)
+
+
+def test_sturm_count_of_one_family_against_the_reference():
+    # the b_odd matrix at q = 2.5: between consecutive eigenvalues the count is their index
+    q = 2.5
+    ref = reference_family("b_odd", q)
+    with mpmath.workdps(30):
+        d, e2 = B._family_diagonals("b_odd", mpmath.mpf(q), 30, mpmath.mpf(1))
+        for k in range(6):
+            mid = (ref[k] + ref[k + 1]) / 2
+            assert B._sturm_count(d, e2, mid) == k + 1
+            assert B._sturm_count(d, e2, ref[k] - mpmath.mpf(10) ** -22) == k
+
+
+# ---------------------------------------------------------------------------
+# The certificate of one certified value (_vectorised._newton_certify)
+# ---------------------------------------------------------------------------
+
+def _one_column(family, q, j, n=15):
+    cf = np.array([B.FAMILIES.index(family)])
+    qq = np.array([float(q)])
+    cj = np.array([j])
+    return cf, qq, cj, n
+
+
+def _delta(x, q):
+    """The first delta of _newton_certify: 1e-13 max(1, |x|) + 4 eta."""
+    return 1e-13 * max(1.0, abs(x)) + 4.0 * float(V._count_eta(np.array([q]))[0])
+
+
+@pytest.mark.parametrize("family,q,j", [("a_even", 1.5, 1), ("b_odd", 3.0, 2), ("a_odd", 0.7, 0)])
+@pytest.mark.parametrize("side", [+1, -1])
+def test_a_perturbed_value_is_not_certified(monkeypatch, family, q, j, side):
+    # The candidate is the true value moved by 4 delta; Newton is switched off so that the
+    # certificate sees the candidate itself.  It must refuse it and fall back to the LAPACK
+    # value (within delta of the reference); a certificate with a 10x wider delta would take
+    # the candidate.  +: caught by the count at x - delta, -: by the count at x + delta.
+    monkeypatch.setattr(V, "_newton_eigen", lambda d, e2, x, iters=8: np.array(x, float))
+    true = float(reference_family(family, q)[j])
+    cand = true + side * 4.0 * _delta(true, q)
+    cf, qq, cj, n = _one_column(family, q, j)
+    x, w = V._newton_certify(cf, qq, cj, np.array([cand]), n)
+    assert abs(x[0] - cand) > 3.0 * _delta(true, q)          # the candidate was replaced
+    assert abs(x[0] - true) <= w[0] and np.isfinite(w[0])     # by a value it proves
+
+
+def test_a_swapped_pair_is_not_certified(monkeypatch):
+    # the values of indices 1 and 2 of a_odd at q = 3 handed over in the wrong order
+    monkeypatch.setattr(V, "_newton_eigen", lambda d, e2, x, iters=8: np.array(x, float))
+    q = 3.0
+    ref = [float(v) for v in reference_family("a_odd", q)[:3]]
+    cf = np.array([1, 1])
+    qq = np.array([q, q])
+    cj = np.array([1, 2])
+    x, w = V._newton_certify(cf, qq, cj, np.array([ref[2], ref[1]]), 15)
+    assert np.all(np.abs(x - np.array([ref[1], ref[2]])) <= w)
+
+
+def test_a_value_no_route_can_prove_leaves_a_nan_width(monkeypatch):
+    # Newton and LAPACK both hand over the value moved by 5 times the second (wider) delta,
+    # 1e-9 max(1, |x|): nothing is proved, the width is NaN
+    import scipy.linalg
+
+    q, j = 1.5, 1
+    true = float(reference_family("a_even", q)[j])
+    off = 5e-9 * max(1.0, abs(true))
+    monkeypatch.setattr(V, "_newton_eigen", lambda d, e2, x, iters=8: np.array(x, float))
+    monkeypatch.setattr(scipy.linalg, "eigvalsh_tridiagonal",
+                        lambda *a, **k: np.array([true + off]))
+    cf, qq, cj, n = _one_column("a_even", q, j)
+    x, w = V._newton_certify(cf, qq, cj, np.array([true + off]), n)
+    assert np.isnan(w[0])
+
+
+def test_a_value_past_the_truncation_is_not_certified(monkeypatch):
+    # Two rows of the a_even matrix at q = 5: its upper eigenvalue 9.35 is not a_2(5) = 7.45
+    # (reference), since the neglected rows (diagonal 16, 36, ...; Gershgorin >= 16 - 2q = 6)
+    # reach below it.  With the tail coupling left out of the lower count (_sided switched
+    # off), only the tail bound x + delta + eta < (2n)^2 - 2|q| stands between it and a
+    # certificate: it must refuse.
+    monkeypatch.setattr(V, "_sided", lambda d, fams, q, side: d.copy())
+    q = 5.0
+    d, e2 = V._family_rows(np.array([0]), np.array([q]), 2)
+    from scipy.linalg import eigvalsh_tridiagonal
+    top2 = float(eigvalsh_tridiagonal(d[:, 0], np.sqrt(e2[:, 0]))[1])
+    assert abs(top2 - float(reference_family("a_even", q)[1])) > 1.0
+    x, w = V._newton_certify(np.array([0]), np.array([q]), np.array([1]), np.array([top2]), 2)
+    assert np.isnan(w[0])
+
+
+# ---------------------------------------------------------------------------
+# The table of certified values (_vectorised._certify_edges)
+# ---------------------------------------------------------------------------
+
+QS = np.array([0.5, 1.5, 3.0])
+TOP = 20.0
+
+
+def test_the_table_holds_each_reference_value_once():
+    E, W = V._certify_edges(QS, TOP)
+    for i, q in enumerate(QS):
+        ref = [float(v) for v in reference_values(q, TOP)]
+        got = E[i][np.isfinite(E[i])]
+        assert got.size == len(ref)
+        assert np.all(np.abs(got - np.array(ref)) <= W[i][: got.size])
+        assert np.all(W[i][: got.size] < 1e-11)
+
+
+def test_a_table_that_misses_an_edge_is_refused(monkeypatch):
+    # The predictor (numpy.linalg.eigvalsh on the stacked matrices) loses the largest
+    # value below TOP of the b_even family (b_4 = 16.0x): that curve is never followed, and
+    # the count at TOP (one more value than the table keeps) must refuse the table.
+    real = np.linalg.eigvalsh
+
+    def lose_one(A):
+        vals = np.array(real(A))
+        fam = np.repeat(np.arange(4), QS.size)
+        for c in np.nonzero(fam == 3)[0]:
+            below = np.nonzero(vals[c] <= TOP)[0]
+            vals[c, below[-1]] = np.inf
+        return vals
+    monkeypatch.setattr(np.linalg, "eigvalsh", lose_one)
+    with pytest.raises(PrecisionError, match="could not certify"):
+        V._certify_edges(QS, TOP)
+
+
+def test_a_table_with_an_uncertified_value_is_refused(monkeypatch):
+    # every value handed over wrong by 5e-9 relative (Newton and LAPACK): refused as a whole
+    import scipy.linalg
+
+    real = scipy.linalg.eigvalsh_tridiagonal
+    monkeypatch.setattr(V, "_newton_eigen", lambda d, e2, x, iters=8: np.array(x, float) + 5e-8)
+    monkeypatch.setattr(scipy.linalg, "eigvalsh_tridiagonal",
+                        lambda *a, **k: real(*a, **k) * (1 + 5e-9) + 5e-9)
+    with pytest.raises(PrecisionError, match="could not certify"):
+        V._certify_edges(QS, TOP)
+
+
+def test_sturm_count_vec_against_the_reference():
+    # the float count between and just beside reference values (1e-12 away: beyond the
+    # rounding bound eta ~ 1e-15 |q| of _count_eta, so the count is exact there)
+    q = np.array([3.0])
+    d, e2 = V._family_rows(np.array([2]), q, 15)
+    ref = [float(v) for v in reference_family("b_odd", 3.0)[:6]]
+    for k, v in enumerate(ref):
+        assert V._sturm_count_vec(d, e2, np.array([v - 1e-12]))[0] == k
+        assert V._sturm_count_vec(d, e2, np.array([v + 1e-12]))[0] == k + 1
+
+
+# ---------------------------------------------------------------------------
+# The stability map's cells (stability_map._classify)
+# ---------------------------------------------------------------------------
+
+def _cells_setup():
+    q = np.array([0.5, 1.5, 3.0, 1.5])                  # columns (one |q| twice)
+    E, W = V._certify_edges(np.unique(q), 25.0)
+    return q, E, W
+
+
+def _ref_parity(t0, q):
+    return sum(1 for v in reference_values(q, 40) if v < t0) % 2 == 1
+
+
+@pytest.mark.parametrize("separable", [True, False])
+def test_cells_beside_an_edge_go_to_the_exact_verdict(separable):
+    # Rows at b_1(1.5) + 0.3 w, a_1(1.5) - 0.5 w (w the cell's bound, so inside it), and
+    # 3 w away from a_2(1.5) (outside), plus plain rows; 4 columns, 7 rows (not square, rows
+    # not sorted).  The cells within the bound must be listed; a bound 10x wider would list
+    # the one 3 w away too.  The other verdicts are the reference parity.
+    q = np.array([0.5, 1.5, 3.0, 1.5])
+    ref = [float(v) for v in reference_values(1.5, 40)]
+    # the bound of _classify: certified width + 32 u (|edge| + 2.5 |q|); measured, not typed
+    E, W = V._certify_edges(np.array([1.5]), 25.0)
+    bound = {}
+    for e, w in zip(E[0], W[0]):
+        if np.isfinite(e):
+            bound[round(e, 6)] = w + 32 * V._U * (abs(e) + 2.5 * 1.5)
+
+    def b(v):
+        return bound[round(v, 6)]
+    b1, a1, a2 = ref[1], ref[2], ref[4]   # b_1, a_1, then a_2 (b_2 is ref[3])
+    rows = np.array([9.5, b1 + 0.3 * b(b1), -3.0, a1 - 0.5 * b(a1), 0.25, a2 + 3.0 * b(a2), 12.0])
+    th0 = rows[:, None]
+    th1 = -q[None, :]
+    shape = (rows.size, q.size)
+    if not separable:
+        th0, th1 = np.broadcast_to(th0, shape).copy(), np.broadcast_to(th1, shape).copy()
+    out, cells = _classify(th0, th1, shape)
+    for j in (1, 3):
+        assert (1, j) in cells and (3, j) in cells
+        assert (5, j) not in cells
+    for i, t in enumerate(rows):
+        for j, qq in enumerate(q):
+            if (i, j) not in cells:
+                assert out[i, j] == _ref_parity(t, qq), (i, j)
+
+
+def test_cells_on_an_edge_at_other_columns_are_not_listed():
+    # the row at b_1(1.5) + 0.3 w is far from every edge at |q| = 0.5 and 3: not listed
+    q = np.array([0.5, 1.5, 3.0])
+    b1 = float(reference_values(1.5, 40)[1])
+    rows = np.array([b1 + 1e-15, 2.0])
+    out, cells = _classify(rows[:, None], -q[None, :], (2, 3))
+    assert (0, 1) in cells and (0, 0) not in cells and (0, 2) not in cells
+    assert out[0, 0] == _ref_parity(b1, 0.5) and out[0, 2] == _ref_parity(b1, 3.0)
+
+
+# ---------------------------------------------------------------------------
+# is_stable's resolution warning
+# ---------------------------------------------------------------------------
+
+def test_is_stable_warns_only_within_its_resolution():
+    # rtol 1e-12 scaled by max(1, |theta0|)(1 + q): a point 0.3 of it from a_1(1.5) warns,
+    # one 3 of it away does not (a 10x looser rtol would warn there too)
+    import warnings
+
+    q = 1.5
+    a1 = float(reference_values(q, 40)[2])
+    scale = 1e-12 * max(1.0, abs(a1)) * (1 + q)
+    with pytest.warns(AccuracyWarning, match="1 point"):
+        V.is_stable(np.array([a1 + 0.3 * scale, 0.3]), -q)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyWarning)
+        v = V.is_stable(np.array([a1 + 3 * scale, a1 - 3 * scale]), -q)
+    assert list(v) == [_ref_parity(a1 + 1e-9, q), _ref_parity(a1 - 1e-9, q)]
