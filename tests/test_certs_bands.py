@@ -238,10 +238,11 @@ def _ref_parity(t0, q):
 
 @pytest.mark.parametrize("separable", [True, False])
 def test_cells_beside_an_edge_go_to_the_exact_verdict(separable):
-    # Rows at b_1(1.5) + 0.3 w, a_1(1.5) - 0.5 w (w the cell's bound, so inside it), and
-    # 3 w away from a_2(1.5) (outside), plus plain rows; 4 columns, 7 rows (not square, rows
-    # not sorted).  The cells within the bound must be listed; a bound 10x wider would list
-    # the one 3 w away too.  The other verdicts are the reference parity.
+    # Rows at b_1(1.5) + 0.3 w (w the cell's bound), just below a_1(1.5) beyond its certified
+    # width but within the widening for the rounding of theta0 and theta1, and 3 w away from
+    # a_2(1.5) (outside), plus plain rows; 4 columns, 7 rows (not square, rows not sorted).
+    # The cells within the bound must be listed; a bound 10x wider would list the one 3 w
+    # away too.  The other verdicts are the reference parity.
     q = np.array([0.5, 1.5, 3.0, 1.5])
     ref = [float(v) for v in reference_values(1.5, 40)]
     # the bound of _classify: certified width + 32 u (|edge| + 2.5 |q|); measured, not typed
@@ -249,12 +250,16 @@ def test_cells_beside_an_edge_go_to_the_exact_verdict(separable):
     bound = {}
     for e, w in zip(E[0], W[0]):
         if np.isfinite(e):
-            bound[round(e, 6)] = w + 32 * V._U * (abs(e) + 2.5 * 1.5)
+            bound[round(e, 6)] = (w, 32 * V._U * (abs(e) + 2.5 * 1.5))
 
     def b(v):
-        return bound[round(v, 6)]
+        return sum(bound[round(v, 6)])
     b1, a1, a2 = ref[1], ref[2], ref[4]   # b_1, a_1, then a_2 (b_2 is ref[3])
-    rows = np.array([9.5, b1 + 0.3 * b(b1), -3.0, a1 - 0.5 * b(a1), 0.25, a2 + 3.0 * b(a2), 12.0])
+    # the row next to a_1 lies beyond the certified width, within the widening for the
+    # rounding of theta0 and theta1
+    w_a1, extra_a1 = bound[round(a1, 6)]
+    rows = np.array([9.5, b1 + 0.3 * b(b1), -3.0, a1 - (w_a1 + 0.5 * extra_a1), 0.25,
+                     a2 + 3.0 * b(a2), 12.0])
     th0 = rows[:, None]
     th1 = -q[None, :]
     shape = (rows.size, q.size)
