@@ -303,3 +303,30 @@ def test_is_stable_warns_only_within_its_resolution():
         warnings.simplefilter("error", AccuracyWarning)
         v = V.is_stable(np.array([a1 + 3 * scale, a1 - 3 * scale]), -q)
     assert list(v) == [_ref_parity(a1 + 1e-9, q), _ref_parity(a1 - 1e-9, q)]
+
+
+# ---------------------------------------------------------------------------
+# The gap route of exponent(): the edge's own trace must be +-1
+# ---------------------------------------------------------------------------
+
+def test_a_gap_point_whose_edge_trace_is_off_is_answered_otherwise(monkeypatch):
+    # theta0 = 0.5, theta1 = -1.5 lies in the first gap (b_1 = -0.73 < 0.5 < a_1 = 2.17 at
+    # q = 1.5): lam = 1 + i mu from the traces at theta0 and at the nearer edge.  The trace at
+    # the edge is handed over wrong by 3 EDGE_TRACE_TOL; the route must see that it is not
+    # +-1 and answer the point otherwise, so that lam still agrees with the continued
+    # fractions at 20 digits (a 10x looser tolerance would let mu move by ~1e-6).
+    from pendulab.analyses.floquet import characteristic_exponent
+
+    ref = complex(characteristic_exponent("0.5", "-1.5", dps=20, method="cf").lam)
+    real = V._trace_half
+    calls = []
+
+    def edge_off(f0, f1, N0):
+        calls.append(f0.size)
+        y = real(f0, f1, N0)
+        return y + 3.0 * V.EDGE_TRACE_TOL if len(calls) == 2 else y
+    monkeypatch.setattr(V, "_trace_half", edge_off)
+    lam = complex(V.exponent(np.array([0.5]), np.array([-1.5]))[0])
+    assert len(calls) >= 2                    # the edge's trace was asked for
+    assert abs(ref.real - 1.0) < 1e-15 and ref.imag > 0.1
+    assert abs(lam - ref) < 1e-9, (lam, ref)
