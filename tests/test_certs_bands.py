@@ -330,3 +330,62 @@ def test_a_gap_point_whose_edge_trace_is_off_is_answered_otherwise(monkeypatch):
     assert len(calls) >= 2                    # the edge's trace was asked for
     assert abs(ref.real - 1.0) < 1e-15 and ref.imag > 0.1
     assert abs(lam - ref) < 1e-9, (lam, ref)
+
+
+# ---------------------------------------------------------------------------
+# Consumers of the table: a short table is not read past its end; listed cells are
+# decided exactly
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("cut", ["columns", "one row"])
+def test_a_table_short_of_the_index_asked_is_not_used(monkeypatch, cut):
+    # theta0_of_exponent at integer nu (a_n(q)) for 20 distinct |q| reads the certified
+    # table; handed a table that stops before the value asked (for every |q|, or +inf
+    # padded for one |q|), it must fall back to LAPACK rather than read past the end
+    from pendulab.analyses.floquet._vectorised import _theta0_of_exponent_array
+
+    real = V._certify_edges
+
+    def short(qs, top, nodes=40):
+        E, W = real(qs, top, nodes)
+        if cut == "columns":
+            return E[:, :5], W[:, :5]
+        E = E.copy()
+        E[3, 5:] = np.inf
+        return E, W
+    monkeypatch.setattr(V, "_certify_edges", short)
+    q = np.linspace(0.3, 3.0, 20)
+    got = _theta0_of_exponent_array(np.full(q.size, 3.0), -q)    # a_3(q) = 6th value
+    for g, qq in zip(got, q):
+        ref = float(reference_family("a_odd", float(qq))[1])      # a_3 = a_{2j+1}, j = 1
+        assert abs(g - ref) < 1e-11 * max(1.0, abs(ref)), (qq, g, ref)
+
+
+def test_listed_cells_take_the_exact_verdict(monkeypatch):
+    # _classify's verdict of every listed cell is turned wrong; map_stability must replace
+    # it by characteristic_exponent's on the exact values (the point mass: theta0 = -4 r^2,
+    # theta1 = 2 a/l; 000 eqs. 5-6)
+    from fractions import Fraction
+
+    from pendulab.analyses import stability_map as SM
+    from pendulab.analyses.floquet import characteristic_exponent
+
+    real = SM._classify
+
+    def wrong(th0, th1, shape):
+        out, cells = real(th0, th1, shape)
+        out = out.copy()
+        for i, j in cells:
+            out[i, j] = not out[i, j]
+        return out, cells
+    monkeypatch.setattr(SM, "_classify", wrong)
+    r = 0.1
+    lim = SM.stability_limits("0.1", 1, dps=30)
+    cols = []
+    for x in (float(lim[0]), float(lim[1])):
+        cols += [x, np.nextafter(x, 0), np.nextafter(x, 1)]
+    m = SM.stability_map(np.array(cols), np.array([r]))
+    assert SM.map_stability.last_exact >= 4
+    for j, a in enumerate(cols):
+        ref = characteristic_exponent(-4 * Fraction(r) ** 2, 2 * Fraction(a)).stable
+        assert m[0, j] == ref, (a, m[0, j], ref)

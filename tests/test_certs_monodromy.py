@@ -390,3 +390,14 @@ def test_pruned_sweep_on_a_rectangular_grid_against_single_trajectories():
             assert res.stable[0, i, j] == bool(np.max(np.abs(theta)) < math.pi / 2), (i, j)
             checked += 1
     assert checked >= 3 and res.simulated == int(simulate.sum())
+
+
+def test_hill_trace_refuses_a_period_its_harmonics_do_not_have():
+    from pendulab.errors import InputError
+
+    with pytest.raises(InputError, match="harmonic 1 is not periodic"):
+        HG.hill_trace({0: (1.0, 0.0), 1: (0.3, 0.0)}, math.pi)
+    with pytest.raises(InputError, match="2 pi/d"):
+        HG.hill_trace({0: (1.0, 0.0), 2: (0.3, 0.0)}, 3.0)
+    with pytest.raises(InputError, match="too large"):
+        HG.hill_trace({0: (1.0, 0.0), 2: (6e4, 0.0)}, math.pi)
