@@ -389,3 +389,66 @@ def test_listed_cells_take_the_exact_verdict(monkeypatch):
     for j, a in enumerate(cols):
         ref = characteristic_exponent(-4 * Fraction(r) ** 2, 2 * Fraction(a)).stable
         assert m[0, j] == ref, (a, m[0, j], ref)
+
+
+# ---------------------------------------------------------------------------
+# theta0_of_exponent's polished double (_vectorised._theta0_of_exponent_polished)
+# ---------------------------------------------------------------------------
+
+@lru_cache(maxsize=None)
+def reference_lambda(nu, theta1, k=0, half=20, dps=30):
+    """lambda_nu: the k-th eigenvalue of J(nu) (diagonal (2n + nu)^2, off-diagonal theta1,
+    |n| <= half; 000 eqs. 9-10 read as an eigenproblem in theta0) by mpmath.eigsy."""
+    with mpmath.workdps(dps):
+        nu, t1 = mpmath.mpf(nu), mpmath.mpf(theta1)
+        size = 2 * half + 1
+        M = mpmath.zeros(size)
+        for i in range(size):
+            M[i, i] = (2 * (i - half) + nu) ** 2
+            if i + 1 < size:
+                M[i, i + 1] = M[i + 1, i] = t1
+        ev = mpmath.eigsy(M, eigvals_only=True)
+        return sorted(ev[i] for i in range(size))[k]
+
+
+NU, TH1 = 0.5, 1.25        # band 0, exact doubles
+
+
+def test_polished_theta0_against_the_reference():
+    v = V._theta0_of_exponent_polished(mpmath.mpf(NU), mpmath.mpf(TH1))
+    ref = float(reference_lambda(NU, TH1))
+    assert v is not None and abs(v - ref) <= 2e-16 * max(1.0, abs(ref))
+
+
+@pytest.mark.parametrize("moved,refused", [(3e-10, True), (3e-11, False)])
+def test_polished_theta0_refuses_a_double_root_far_from_its_refinement(monkeypatch, moved,
+                                                                       refused):
+    # the vectorised root handed over 3e-10 (refused: more than 1e-10 from where Newton in
+    # mpmath lands) or 3e-11 (accepted, and the refined value is right) from the reference
+    ref = float(reference_lambda(NU, TH1))
+    monkeypatch.setattr(V, "_band_eigen", lambda *a, **k: np.array([ref + moved]))
+    v = V._theta0_of_exponent_polished(mpmath.mpf(NU), mpmath.mpf(TH1))
+    if refused:
+        assert v is None
+    else:
+        assert v is not None and abs(v - ref) <= 2e-16 * max(1.0, abs(ref))
+
+
+def test_polished_theta0_refuses_a_value_outside_its_band(monkeypatch):
+    # the band handed over ends 0.01 below the true value; the double root is the true one,
+    # so only the band check stands between the value and the caller
+    ref = float(reference_lambda(NU, TH1))
+    real = V._band_edges
+    monkeypatch.setattr(V, "_band_edges",
+                        lambda absq, k: (real(absq, k)[0], np.array([ref - 0.01])))
+    monkeypatch.setattr(V, "_band_eigen", lambda *a, **k: np.array([ref]))
+    assert V._theta0_of_exponent_polished(mpmath.mpf(NU), mpmath.mpf(TH1)) is None
+
+
+def test_polished_theta0_refuses_two_precisions_that_disagree(monkeypatch):
+    # the 30-digit refinement gets 3 rows, the 40-digit one 11: they disagree far beyond
+    # 1e-22, and the value must be refused
+    real = V._shifted_rows
+    monkeypatch.setattr(V, "_shifted_rows",
+                        lambda top, absq, digits=8: 3 if digits == 16 else real(top, absq, digits))
+    assert V._theta0_of_exponent_polished(mpmath.mpf(NU), mpmath.mpf(TH1)) is None
