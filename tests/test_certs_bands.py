@@ -452,3 +452,27 @@ def test_polished_theta0_refuses_two_precisions_that_disagree(monkeypatch):
     monkeypatch.setattr(V, "_shifted_rows",
                         lambda top, absq, digits=8: 3 if digits == 16 else real(top, absq, digits))
     assert V._theta0_of_exponent_polished(mpmath.mpf(NU), mpmath.mpf(TH1)) is None
+
+
+# ---------------------------------------------------------------------------
+# exponent(): a band thinner than its edges' rounding is not solved between them
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("q", [36.0, 50.0])
+def test_a_band_thinner_than_its_rounding_is_answered_one_by_one(q):
+    # The first band between a_0(q) and b_1(q) is 2.3e-10 (q = 36) and 2.8e-12 (q = 50) of
+    # the scale max(1, |theta0|, |theta1|) wide, below THIN_BAND = 1e-9: the Newton route
+    # between double edges would be off by ~5e-8 and ~4e-6 there (a 10x smaller THIN_BAND
+    # sends the q = 36 point to it).  Reference: the continued fractions at 20 digits at the
+    # exact double theta0 (lam moves by ~1e-5 per ulp of theta0 in so thin a band).
+    from fractions import Fraction
+
+    from pendulab.analyses.floquet import characteristic_exponent, mathieu_a, mathieu_b
+
+    with mpmath.workdps(30):
+        mid = (mathieu_a(0, q, dps=30) + mathieu_b(1, q, dps=30)) / 2
+    x = float(mid)
+    ref = complex(characteristic_exponent(Fraction(x), Fraction(-q), dps=20, method="cf").lam)
+    assert 0.4 < ref.real < 0.6 and ref.imag == 0
+    lam = complex(V.exponent(np.array([x, 0.3]), np.array([-q, -q]))[0])
+    assert abs(lam - ref) < 1e-12, (lam, ref)
