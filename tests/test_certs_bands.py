@@ -476,3 +476,16 @@ def test_a_band_thinner_than_its_rounding_is_answered_one_by_one(q):
     assert 0.4 < ref.real < 0.6 and ref.imag == 0
     lam = complex(V.exponent(np.array([x, 0.3]), np.array([-q, -q]))[0])
     assert abs(lam - ref) < 1e-12, (lam, ref)
+
+
+def test_an_edge_just_above_the_largest_theta0_still_lists_its_cell():
+    # The largest row lies below a_1(1.5) by more than the edge's certified width but within
+    # the widening for rounding: the table must reach past the largest theta0 far enough to
+    # hold a_1, or that cell would not be listed
+    E, W = V._certify_edges(np.array([1.5]), 25.0)
+    a1 = float(reference_values(1.5, 40)[2])
+    k = int(np.argmin(np.abs(E[0] - a1)))
+    w, extra = W[0][k], 32 * V._U * (abs(a1) + 2.5 * 1.5)
+    rows = np.array([0.5, a1 - (w + 0.5 * extra)])
+    out, cells = _classify(rows[:, None], np.array([[-1.5, -0.5]]), (2, 2))
+    assert (1, 0) in cells and (1, 1) not in cells

@@ -401,3 +401,18 @@ def test_hill_trace_refuses_a_period_its_harmonics_do_not_have():
         HG.hill_trace({0: (1.0, 0.0), 2: (0.3, 0.0)}, 3.0)
     with pytest.raises(InputError, match="too large"):
         HG.hill_trace({0: (1.0, 0.0), 2: (6e4, 0.0)}, math.pi)
+
+
+def test_a_sweep_refuses_cells_outside_its_rectangular_grid():
+    # 3 x 5 cells (one initial condition): index 15 is the first outside
+    from pendulab.errors import InputError
+
+    spec = S.make_spec(POINT, a_over_l=(0.0, 0.1, 0.2, 0.3, 0.4), w0_over_w=(0.0, 0.1, 0.2),
+                       criterion="bounded", periods=1, steps_per_period=10)
+    with pytest.raises(InputError, match=r"0\.\.14"):
+        S.sweep(spec, index=[3, 15], quiet=True)
+    with pytest.raises(InputError, match=r"0\.\.14"):
+        S.sweep(spec, index=[-1, 2], quiet=True)
+    res = S.sweep(spec, index=[14], quiet=True, executor="serial")
+    assert res.simulated == 1 and np.isfinite(res.stats["max_abs_theta"][0, 2, 4])
+    assert np.isnan(res.stats["max_abs_theta"][0, 0, 0])
