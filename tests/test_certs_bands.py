@@ -489,3 +489,48 @@ def test_an_edge_just_above_the_largest_theta0_still_lists_its_cell():
     rows = np.array([0.5, a1 - (w + 0.5 * extra)])
     out, cells = _classify(rows[:, None], np.array([[-1.5, -0.5]]), (2, 2))
     assert (1, 0) in cells and (1, 1) not in cells
+
+
+# ---------------------------------------------------------------------------
+# The band Newton loops keep their bracket by a Sturm count (NumPy path)
+# ---------------------------------------------------------------------------
+
+# points inside the stable bands 0 to 3 at q = 1.5 (edges: reference_values) and band 2 at q = 3
+BAND_POINTS = [(-0.8, -1.5), (3.0, -1.5), (7.0, -1.5), (12.0, -1.5), (10.0, -3.0)]
+
+
+@pytest.mark.parametrize("end", [1e-9, 1.0 - 1e-9])
+def test_band_exponent_from_a_guess_at_the_far_end_of_its_bracket(monkeypatch, end):
+    # lam in (k, k + 1) from a first guess at k + 1e-9 or k + 1 - 1e-9: the Sturm count of
+    # J(lam) - theta0 must keep each step in the bracket (with the bracket left open, steps
+    # leave the band and land on another root).  Reference: the continued fractions at 20
+    # digits.  The C kernel runs the same operations (tests/test_vectorised_ckernel.py).
+    from fractions import Fraction
+
+    from pendulab.analyses.floquet import characteristic_exponent
+
+    monkeypatch.setenv("PENDULAB_BAND_NUMPY", "1")
+    monkeypatch.setattr(V, "_band_nu_guess", lambda th0, k, lo, hi: k.astype(float) + end)
+    f0 = np.array([p[0] for p in BAND_POINTS])
+    f1 = np.array([p[1] for p in BAND_POINTS])
+    ref = np.array([complex(characteristic_exponent(Fraction(a), Fraction(b), dps=20,
+                                                    method="cf").lam) for a, b in BAND_POINTS])
+    assert np.all(ref.imag == 0)
+    assert np.all(np.abs(V.exponent(f0, f1) - ref) < 1e-13)
+
+
+@pytest.mark.parametrize("side", ["lo", "hi"])
+def test_band_eigenvalue_from_a_guess_at_the_far_end_of_its_bracket(monkeypatch, side):
+    # theta0_of_exponent's eigenvalue of J(nu) in band k from a first guess at an edge of
+    # the band: the Sturm count keeps each step between the edges
+    from pendulab.analyses.floquet._vectorised import _theta0_of_exponent_array
+
+    monkeypatch.setenv("PENDULAB_BAND_NUMPY", "1")
+    monkeypatch.setattr(V, "_band_eigen_guess",
+                        lambda nu, k, lo, hi: (lo if side == "lo" else hi).copy())
+    nus = (0.5, 1.3, 2.7, 3.9)
+    th1 = (1.25, -2.0, 3.0, 0.8)
+    got = _theta0_of_exponent_array(np.array(nus), np.array(th1))
+    for g, nu, t in zip(got, nus, th1):
+        ref = float(reference_lambda(nu, t, k=int(nu)))
+        assert abs(g - ref) < 1e-13 * max(1.0, abs(ref)), (nu, t, g, ref)
