@@ -12,6 +12,8 @@ by mpmath.eigsy at 30 digits; the neglected tail changes them by far less than 1
 neither the double-precision Newton nor the Sturm counts under test.
 """
 
+import math
+import warnings
 from functools import lru_cache
 
 import mpmath
@@ -292,8 +294,6 @@ def test_cells_on_an_edge_at_other_columns_are_not_listed():
 def test_is_stable_warns_only_within_its_resolution():
     # rtol 1e-12 scaled by max(1, |theta0|)(1 + q): a point 0.3 of it from a_1(1.5) warns,
     # one 3 of it away does not (a 10x looser rtol would warn there too)
-    import warnings
-
     q = 1.5
     a1 = float(reference_values(q, 40)[2])
     scale = 1e-12 * max(1.0, abs(a1)) * (1 + q)
@@ -534,3 +534,17 @@ def test_band_eigenvalue_from_a_guess_at_the_far_end_of_its_bracket(monkeypatch,
     for g, nu, t in zip(got, nus, th1):
         ref = float(reference_lambda(nu, t, k=int(nu)))
         assert abs(g - ref) < 1e-13 * max(1.0, abs(ref)), (nu, t, g, ref)
+
+
+def test_an_overflowed_trace_is_answered_one_by_one():
+    # theta0 = -6e4, theta1 = 1: |Im lam| = 245, the trace cosh(pi 245) overflows a double;
+    # the gap route must not read lam from it.  Reference: 000 eqs. 9-10 kept to |n| <= 1,
+    # theta0 - lam^2 = theta1^2 (1/C_1 + 1/C_-1) = -theta1^2/(2 mu^2) + O(theta1^4/mu^6) for
+    # lam = i mu, so mu = sqrt(-theta0 - theta1^2/(2 (-theta0))) to ~1e-19 relative.
+    t0, t1 = -6e4, 1.0
+    mu = math.sqrt(-t0 - t1 * t1 / (2 * (-t0)))
+    assert not np.isfinite(V.trace_monodromy(np.array([t0]), np.array([t1]))[0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        lam = complex(V.exponent(np.array([t0, -1.0]), np.array([t1, 0.5]))[0])
+    assert lam.real == 0.0 and abs(lam.imag - mu) < 1e-12 * mu, (lam, mu)
