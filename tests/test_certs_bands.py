@@ -548,3 +548,40 @@ def test_an_overflowed_trace_is_answered_one_by_one():
         warnings.simplefilter("error")
         lam = complex(V.exponent(np.array([t0, -1.0]), np.array([t1, 0.5]))[0])
     assert lam.real == 0.0 and abs(lam.imag - mu) < 1e-12 * mu, (lam, mu)
+
+
+def test_a_table_with_a_gap_in_its_indices_is_refused(monkeypatch):
+    # At the first |q| the predictor loses a_10 (~100, index 5 of the a_even family) but
+    # keeps a_12 (~144): both lie above TOP = 98 (so the count at TOP does not see the
+    # loss) and below TOP + margin, where curves are followed.  The indices kept at that
+    # |q| then skip one, and the table must be refused.
+    top = 98.0
+    real = np.linalg.eigvalsh
+
+    def gap(A):
+        vals = np.array(real(A))
+        assert 99.0 < vals[0, 5] < 101.0 and 143.0 < vals[0, 6] < 145.0
+        vals[0, 5] = np.inf          # column 0: the a_even family at QS[0]
+        return vals
+    monkeypatch.setattr(np.linalg, "eigvalsh", gap)
+    with pytest.raises(PrecisionError, match="could not certify"):
+        V._certify_edges(QS, top)
+
+
+def test_a_refused_table_leaves_the_band_count_to_lapack(monkeypatch):
+    # exponent() on 20 distinct |q| asks for a certified table; refused, it counts the
+    # bands with LAPACK instead and still gives lam (reference: the continued fractions)
+    from fractions import Fraction
+
+    from pendulab.analyses.floquet import characteristic_exponent
+
+    def refuse(qs, top, nodes=40):
+        raise PrecisionError("refused for the test")
+    monkeypatch.setattr(V, "_certify_edges", refuse)
+    q = np.linspace(0.5, 2.4, 20)
+    t0 = np.full(q.size, 3.0)
+    lam = V.exponent(t0, -q)
+    for i in (0, 7, 13, 19):
+        ref = complex(characteristic_exponent(Fraction(3), Fraction(float(-q[i])), dps=20,
+                                              method="cf").lam)
+        assert abs(lam[i] - ref) < 1e-9, (q[i], lam[i], ref)
