@@ -12,6 +12,7 @@ theta1 = 2 a/l (000 eqs. 5-6).
 
 import math
 import warnings
+from fractions import Fraction
 from functools import lru_cache
 
 import mpmath
@@ -266,9 +267,9 @@ def test_mathieu_hill_trace_at_squares_against_the_continued_fractions(theta0, t
     ref = characteristic_exponent(theta0, theta1, dps=30, method="cf")
     with mpmath.workdps(30):
         y_ref = mpmath.re(ref.multipliers[0] + ref.multipliers[1]) / 2
-    y, _ = H._hill_y(mpmath.mpf(theta0), mpmath.mpf(theta1), 25)
+    y, _ = H._hill_y(Fraction(theta0), Fraction(theta1), 25)
     with mpmath.workdps(30):
-        assert abs(y - y_ref) < mpmath.mpf(10) ** -15
+        assert abs(y - y_ref) < mpmath.mpf(10) ** -23
     tr = float(V.trace_monodromy(np.array([float(theta0)]), np.array([float(theta1)]))[0])
     assert abs(tr - 2 * float(y_ref)) < 1e-10 * max(1.0, abs(tr))
 
@@ -285,7 +286,6 @@ W0 = (0.05, 0.21, 0.0, 0.12)
 
 def _reference_stable(al, w):
     """The Floquet verdict of the point mass by the continued fractions (000 eqs. 5-6)."""
-    from fractions import Fraction
 
     t0 = -4 * Fraction(w) ** 2
     t1 = 2 * Fraction(al)
@@ -416,3 +416,31 @@ def test_a_sweep_refuses_cells_outside_its_rectangular_grid():
     res = S.sweep(spec, index=[14], quiet=True, executor="serial")
     assert res.simulated == 1 and np.isfinite(res.stats["max_abs_theta"][0, 2, 4])
     assert np.isnan(res.stats["max_abs_theta"][0, 0, 0])
+
+
+# ---------------------------------------------------------------------------
+# The Taylor series' a posteriori truncation (two working precisions cannot see it: a
+# series cut too early is cut the same way at both)
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("theta0,theta1", [("-0.04", "0.3"), ("2.5", "-1.7")])
+def test_mathieu_monodromy_taylor_series_is_not_cut_early(theta0, theta1):
+    from pendulab.analyses.floquet._monodromy import _monodromy_y
+
+    ref = characteristic_exponent(theta0, theta1, dps=35, method="cf")
+    with mpmath.workdps(35):
+        y_ref = mpmath.re(ref.multipliers[0] + ref.multipliers[1]) / 2
+    y, _ = _monodromy_y(Fraction(theta0), Fraction(theta1), 30)
+    with mpmath.workdps(35):
+        assert abs(y - y_ref) < mpmath.mpf(10) ** -27, (y, y_ref)
+
+
+def test_mp_monodromy_taylor_series_is_not_cut_early():
+    # the point mass at theta0 = -0.04, theta1 = 0.3 (a/l = 3/20, omega0/omega = 1/10),
+    # dps 25, against the continued fractions at 35 digits
+    ref = characteristic_exponent("-0.04", "0.3", dps=35, method="cf")
+    v = MD.floquet_verdict(_point_fos(), {"a_over_l": "3/20", "w0_over_w": "1/10"},
+                           dps=25, method="mp")
+    with mpmath.workdps(35):
+        tr = mpmath.re(ref.multipliers[0] + ref.multipliers[1])
+        assert abs(v.trace - tr) < mpmath.mpf(10) ** -23, (v.trace, tr)
