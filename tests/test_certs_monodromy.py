@@ -286,7 +286,6 @@ W0 = (0.05, 0.21, 0.0, 0.12)
 
 def _reference_stable(al, w):
     """The Floquet verdict of the point mass by the continued fractions (000 eqs. 5-6)."""
-
     t0 = -4 * Fraction(w) ** 2
     t1 = 2 * Fraction(al)
     return bool(characteristic_exponent(t0, t1, dps=20, method="cf").stable)
