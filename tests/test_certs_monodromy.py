@@ -443,3 +443,21 @@ def test_mp_monodromy_taylor_series_is_not_cut_early():
     with mpmath.workdps(35):
         tr = mpmath.re(ref.multipliers[0] + ref.multipliers[1])
         assert abs(v.trace - tr) < mpmath.mpf(10) ** -23, (v.trace, tr)
+
+
+def test_prune_plan_integrates_slowly_growing_cells_of_a_resonance_gap():
+    # Every cell of this 2 x 5 grid lies in the first resonance gap (lam = 1 + i mu, the
+    # continued fractions at 20 digits); with margin 0 and a small amplitude only the cells
+    # with mu < FLUTTER_MU = 0.5 are integrated (mu = 0.23 .. 0.49 at a/l 0.5, 0.6; 0.62 ..
+    # 1.0 beyond, which a 10x larger threshold would integrate too)
+    al, w0 = (0.5, 0.6, 0.7, 0.9, 1.2), (0.0, 0.1)
+    spec = S.make_spec(POINT, a_over_l=al, w0_over_w=w0, criterion="bounded",
+                       theta_init=0.001, omega_init=0.0, periods=5)
+    predicted, simulate = S.prune_plan(spec, 0)
+    for i, w in enumerate(w0):
+        for j, a in enumerate(al):
+            lam = complex(characteristic_exponent(-4 * Fraction(w) ** 2, 2 * Fraction(a),
+                                                  dps=20, method="cf").lam)
+            assert lam.real == 1.0 and not predicted[0, i, j]
+            assert simulate[0, i, j] == (lam.imag < 0.5), (a, w, lam)   # prune_plan's rule
+    assert simulate.any() and not simulate.all()
