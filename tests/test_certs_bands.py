@@ -585,3 +585,18 @@ def test_a_refused_table_leaves_the_band_count_to_lapack(monkeypatch):
         ref = complex(characteristic_exponent(Fraction(3), Fraction(float(-q[i])), dps=20,
                                               method="cf").lam)
         assert abs(lam[i] - ref) < 1e-9, (q[i], lam[i], ref)
+
+
+@pytest.mark.parametrize("order", ["ascending", "descending", "unsorted"])
+def test_map_verdicts_for_rows_in_any_order(order):
+    # the separable path reads its per-column counts back in the rows' order: ascending,
+    # descending and any other order take three different ways back; 5 rows x 3 columns
+    q = np.array([0.5, 1.5, 3.0])
+    rows = np.array([-2.0, -0.8, 1.0, 3.0, 7.0])
+    rows = {"ascending": rows, "descending": rows[::-1].copy(),
+            "unsorted": rows[[2, 0, 4, 1, 3]]}[order]
+    out, cells = _classify(rows[:, None], -q[None, :], (rows.size, q.size))
+    assert cells == []
+    ref = np.array([[_ref_parity(t, qq) for qq in q] for t in rows])
+    assert ref.any() and not ref.all()
+    assert np.array_equal(out, ref)

@@ -461,3 +461,26 @@ def test_prune_plan_integrates_slowly_growing_cells_of_a_resonance_gap():
             assert lam.real == 1.0 and not predicted[0, i, j]
             assert simulate[0, i, j] == (lam.imag < 0.5), (a, w, lam)   # prune_plan's rule
     assert simulate.any() and not simulate.all()
+
+
+def test_prune_plan_rules_of_the_mean_criteria():
+    # "mean": every Floquet-unstable cell is integrated (a falling pendulum can have a small
+    # signed mean); "mean-abs": a stable cell is integrated when (2/pi) A >= 0.05, i.e.
+    # theta(0) (1 + theta1) >= 0.0785 with theta'(0) = 0 (A of prune_plan's docstring)
+    al = (0.02, 0.1, 0.2, 0.3, 0.6, 0.9)
+    w0 = (0.0, 0.05, 0.15)
+    F = np.array([[_reference_stable(a, w) for a in al] for w in w0])
+    assert F.any() and not F.all()
+    mean = S.make_spec(POINT, a_over_l=al, w0_over_w=w0, criterion="mean",
+                       theta_init=0.001, omega_init=0.0, periods=5)
+    _, sim = S.prune_plan(mean, 0)
+    assert np.all(sim[0][~F]) and not np.any(sim[0][F])
+    t1 = 2 * np.array(al)[None, :] * np.ones((len(w0), 1))
+    for th in (0.02, 0.05):
+        spec = S.make_spec(POINT, a_over_l=al, w0_over_w=w0, criterion="mean-abs",
+                           theta_init=th, omega_init=0.0, periods=5)
+        _, sim = S.prune_plan(spec, 0)
+        big = 2 / math.pi * (1 + t1) * th >= 0.05
+        assert np.array_equal(sim[0][F], big[F]), th
+        # th = 0.05: the stable cells with theta1 >= pi/2 - 1 are integrated, the others not
+        assert (big[F].any() and not big[F].all()) if th == 0.05 else not big[F].any()
