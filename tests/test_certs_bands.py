@@ -600,3 +600,21 @@ def test_map_verdicts_for_rows_in_any_order(order):
     ref = np.array([[_ref_parity(t, qq) for qq in q] for t in rows])
     assert ref.any() and not ref.all()
     assert np.array_equal(out, ref)
+
+
+def test_edge_count_reaches_deep_enough_at_large_theta0():
+    # q = 20, the values near theta0 = 400 (index ~40): the truncation of the four matrices
+    # (the depth rules of _bands) must reach past them, or the count near the top falls
+    # short.  a_20(20), b_20(20) and a_21(20), b_21(20) differ by 5e-20 and 6e-22 (the
+    # reference), so each value is approached to a quarter of its distance to its neighbours.
+    q = 20.0
+    allv = reference_values(q, 450)
+    k0 = len(reference_values(q, 380))
+    assert len(allv) - k0 >= 3
+    with mpmath.workdps(30):
+        for k in range(k0, len(allv)):
+            e = allv[k]
+            gap = min(abs(e - allv[k - 1]), abs(allv[k + 1] - e) if k + 1 < len(allv) else 1)
+            eps = min(mpmath.mpf(10) ** -20, gap / 4)
+            assert B._edge_count(e - eps, mpmath.mpf(-q), 30) == k, k
+            assert B._edge_count(e + eps, mpmath.mpf(-q), 30) == k + 1, k
