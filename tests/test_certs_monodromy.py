@@ -484,3 +484,14 @@ def test_prune_plan_rules_of_the_mean_criteria():
         assert np.array_equal(sim[0][F], big[F]), th
         # th = 0.05: the stable cells with theta1 >= pi/2 - 1 are integrated, the others not
         assert (big[F].any() and not big[F].all()) if th == 0.05 else not big[F].any()
+
+
+def test_hill_trace_shifts_away_from_a_zero_diagonal_beyond_n_200():
+    # c_0 = 201^2 with period 2 pi (d = 1): the zero of c_0 - (s + n)^2 at s = 0 lies at
+    # n = 201, beyond a search of n up to 200; s = 1/2 must be chosen all the same, and the
+    # trace agree with solve_ivp (its own accuracy ~1e-10 here, 201 oscillations)
+    fourier = {0: (201.0 ** 2, 0.0), 1: (0.3, 0.0)}
+    r = HG.hill_trace(fourier, 2 * math.pi)
+    assert r.shift == 0.5
+    ref = _trace_by_ivp(fourier, 2 * math.pi)
+    assert abs(r.trace - ref) < 1e-8, (r.trace, ref)
