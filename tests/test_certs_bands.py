@@ -618,3 +618,20 @@ def test_edge_count_reaches_deep_enough_at_large_theta0():
             eps = min(mpmath.mpf(10) ** -20, gap / 4)
             assert B._edge_count(e - eps, mpmath.mpf(-q), 30) == k, k
             assert B._edge_count(e + eps, mpmath.mpf(-q), 30) == k + 1, k
+
+
+@pytest.mark.parametrize("q", [5.0, 8.0, 20.0])
+def test_a_value_above_every_row_within_the_widening_lists_its_cell(q):
+    # The value e of smallest |e| at q (1.86 at q = 5, -0.39 at 8, 1.15 at 20), the only row
+    # below it by more than its certified width but within the widening 32 u (|e| + 2.5 q):
+    # the table must reach far enough above the largest theta0 for that widening (at large
+    # q it exceeds 64 u |theta0|), or the cell is never decided exactly
+    vals = [float(v) for v in reference_values(q, 10)]
+    e = min(vals, key=abs)
+    E, W = V._certify_edges(np.array([q]), e + 1.0)
+    w = W[0][int(np.argmin(np.abs(E[0] - e)))]
+    extra = 32 * V._U * (abs(e) + 2.5 * q)
+    t0 = e - (w + 0.5 * extra)
+    assert e - t0 > 64 * V._U * abs(t0) + w        # beyond the old reach of the table
+    out, cells = _classify(np.array([[t0]]), np.array([[-q]]), (1, 1))
+    assert cells == [(0, 0)]
