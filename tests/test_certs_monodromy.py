@@ -495,3 +495,16 @@ def test_hill_trace_shifts_away_from_a_zero_diagonal_beyond_n_200():
     assert r.shift == 0.5
     ref = _trace_by_ivp(fourier, 2 * math.pi)
     assert abs(r.trace - ref) < 1e-8, (r.trace, ref)
+
+
+def test_sweep_criteria_refuse_just_beyond_their_thresholds():
+    # mean |.| < 0.1 and mean of |theta| < 0.1 (000 sec. 4), |theta| < pi/2 throughout:
+    # 3% inside is stable, 3% outside and an overflowed (NaN) trajectory are not
+    nan = float("nan")
+    stats = {"mean_theta": [0.097, -0.097, 0.103, -0.103, nan],
+             "mean_abs_theta": [0.097, 0.103, nan, 0.0, 0.05],
+             "max_abs_theta": [0.97 * math.pi / 2, 1.03 * math.pi / 2, nan, 0.0, 1.0]}
+    with np.errstate(invalid="ignore"):
+        assert list(S.verdict("mean", stats)) == [True, True, False, False, False]
+        assert list(S.verdict("mean-abs", stats)) == [True, False, False, True, True]
+        assert list(S.verdict("bounded", stats)) == [True, False, False, True, True]
