@@ -635,3 +635,26 @@ def test_a_value_above_every_row_within_the_widening_lists_its_cell(q):
     assert e - t0 > 64 * V._U * abs(t0) + w        # beyond the old reach of the table
     out, cells = _classify(np.array([[t0]]), np.array([[-q]]), (1, 1))
     assert cells == [(0, 0)]
+
+
+def test_a_table_predicted_with_an_edge_twice_is_repaired(monkeypatch):
+    # The predictor hands over a_4 (a_even index 2) in place of a_2 (index 1) as well, at
+    # every |q| (Newton switched off, so the candidate stays): the certificate of index 1
+    # refuses it, and the table that comes back holds each reference value once, not a_4
+    # twice and a_2 never (swapped values, by contrast, come back sorted and are harmless)
+    real = np.linalg.eigvalsh
+
+    def swap(A):
+        vals = np.array(real(A))
+        fam = np.repeat(np.arange(4), QS.size)
+        for c in np.nonzero(fam == 0)[0]:
+            vals[c, 1] = vals[c, 2]
+        return vals
+    monkeypatch.setattr(np.linalg, "eigvalsh", swap)
+    monkeypatch.setattr(V, "_newton_eigen", lambda d, e2, x, iters=8: np.array(x, float))
+    E, W = V._certify_edges(QS, TOP)
+    for i, q in enumerate(QS):
+        ref = [float(v) for v in reference_values(q, TOP)]
+        got = E[i][np.isfinite(E[i])]
+        assert got.size == len(ref)
+        assert np.all(np.abs(got - np.array(ref)) <= W[i][: got.size])
