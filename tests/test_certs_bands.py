@@ -228,12 +228,6 @@ def test_sturm_count_vec_against_the_reference():
 # The stability map's cells (stability_map._classify)
 # ---------------------------------------------------------------------------
 
-def _cells_setup():
-    q = np.array([0.5, 1.5, 3.0, 1.5])                  # columns (one |q| twice)
-    E, W = V._certify_edges(np.unique(q), 25.0)
-    return q, E, W
-
-
 def _ref_parity(t0, q):
     return sum(1 for v in reference_values(q, 40) if v < t0) % 2 == 1
 
@@ -278,7 +272,8 @@ def test_cells_beside_an_edge_go_to_the_exact_verdict(separable):
 
 
 def test_cells_on_an_edge_at_other_columns_are_not_listed():
-    # the row at b_1(1.5) + 0.3 w is far from every edge at |q| = 0.5 and 3: not listed
+    # the row 1e-15 above b_1(1.5) is far from every edge at |q| = 0.5 and 3: listed only
+    # in the column of |q| = 1.5
     q = np.array([0.5, 1.5, 3.0])
     b1 = float(reference_values(1.5, 40)[1])
     rows = np.array([b1 + 1e-15, 2.0])
@@ -355,7 +350,7 @@ def test_a_table_short_of_the_index_asked_is_not_used(monkeypatch, cut):
         return E, W
     monkeypatch.setattr(V, "_certify_edges", short)
     q = np.linspace(0.3, 3.0, 20)
-    got = _theta0_of_exponent_array(np.full(q.size, 3.0), -q)    # a_3(q) = 6th value
+    got = _theta0_of_exponent_array(np.full(q.size, 3.0), -q)    # a_3(q): index 6 of the sorted
     for g, qq in zip(got, q):
         ref = float(reference_family("a_odd", float(qq))[1])      # a_3 = a_{2j+1}, j = 1
         assert abs(g - ref) < 1e-11 * max(1.0, abs(ref)), (qq, g, ref)
