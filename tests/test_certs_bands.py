@@ -350,7 +350,7 @@ def test_a_table_short_of_the_index_asked_is_not_used(monkeypatch, cut):
         return E, W
     monkeypatch.setattr(V, "_certify_edges", short)
     q = np.linspace(0.3, 3.0, 20)
-    got = _theta0_of_exponent_array(np.full(q.size, 3.0), -q)    # a_3(q): index 6 of the sorted
+    got = _theta0_of_exponent_array(np.full(q.size, 3.0), -q)    # a_3(q), sorted index 6
     for g, qq in zip(got, q):
         ref = float(reference_family("a_odd", float(qq))[1])      # a_3 = a_{2j+1}, j = 1
         assert abs(g - ref) < 1e-11 * max(1.0, abs(ref)), (qq, g, ref)
