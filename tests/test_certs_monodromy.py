@@ -43,7 +43,8 @@ PARAMS = {"a_over_l": "1/10", "w0_over_w": "1/20"}
 
 
 def _matrix(tr, det, w):
-    """A 2 x 2 mpf matrix with trace tr and determinant det at dps w: [[t/2, 1], [t^2/4 - det, t/2]]."""
+    """A 2 x 2 mpf matrix with trace tr and determinant det at dps w:
+    [[t/2, 1], [t^2/4 - det, t/2]]."""
     with mpmath.workdps(w):
         t = mpmath.mpf(tr)
         h = t / 2
