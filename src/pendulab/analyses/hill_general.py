@@ -164,8 +164,12 @@ def hill_trace(fourier, period):
         raise InputError(f"hill_trace: |A_0| + sum |A_k| + |B_k| = {size:.3g} is too large "
                          "for the double-precision determinant (limit 1e5)")
 
+    # every n with (s + d n)^2 up to beyond |x0|: the zero of c_0 - (s + d n)^2 may lie at
+    # any n up to sqrt(|x0|)/d (above 200 for d = 1 within the size limit)
+    reach = int(math.sqrt(abs(x0)) / d) + 2
+
     def gap(s):
-        return min(abs(x0 - (s + d * n) ** 2) for n in range(-200, 201))
+        return min(abs(x0 - (s + d * n) ** 2) for n in range(-reach, reach + 1))
 
     s = max((0.0, d / 2), key=gap)
     jmax = max(abs(j) for j in c)

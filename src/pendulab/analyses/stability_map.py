@@ -235,7 +235,10 @@ def _classify(th0, th1, shape):
     absq = np.abs(th1).ravel()
     qs, inv = np.unique(absq, return_inverse=True)
     top = float(np.max(th0))
-    top += 64.0 * _U * abs(top) + 1e-300
+    # far enough for every value that the widening below can reach from a cell: a value e
+    # is kept when e - width <= top, and a cell at theta0 <= top is near it up to
+    # width + 32 u (|e| + 2.5 |q|), with |e| < |top| + 1
+    top += 64.0 * _U * abs(top) + 32.0 * _U * (1.0 + 2.5 * float(np.max(absq))) + 1e-300
     chunk = 20000
     parts = [_certify_edges(qs[k:k + chunk], top) for k in range(0, qs.size, chunk)]
     ne = max(p[0].shape[1] for p in parts)

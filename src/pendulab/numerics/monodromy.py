@@ -538,12 +538,15 @@ def floquet_verdict(fos, params, *, dps=None, method="dop853", max_dps=None):
                     f"max_dps={max_dps} (two working precisions differ by "
                     f"{mpmath.nstr(err, 3)}; |trace| - 2 = {mpmath.nstr(margin, 3)})")
         w = min(max(w + 12, 2 * w - want), max_dps - 12)
+    with mpmath.workdps(w2):
+        # the side was decided on tr2 at w2 digits: a trace 1e-20 inside a band rounds to
+        # 2 at the digits asked, so the verdict is read before rounding
+        det2 = M2[0][0] * M2[1][1] - M2[0][1] * M2[1][0]
+        stable = (not on_b) and abs(tr2) < 2 and abs(det2 - 1) < mpmath.mpf(10) ** (-want // 2)
     with mpmath.workdps(want):
         M = tuple(tuple(+v for v in row) for row in M2)
-        det = M2[0][0] * M2[1][1] - M2[0][1] * M2[1][0]
         tr = +tr2
-        det = +det
-        stable = (not on_b) and abs(tr) < 2 and abs(det - 1) < mpmath.mpf(10) ** (-want // 2)
+        det = +det2
         mults = _multipliers(tr, det)
     return FloquetVerdict(M, tr, det, mults, bool(stable), bool(on_b), _exponent(tr, T),
                           float(T), float(err), method, dps, int(w2))

@@ -20,12 +20,16 @@ with ``steps_per_period`` fixed RK4 steps each (no early exit):
 * ``mean``     - |time mean of theta| < 0.1 (the signed mean; 000 sec. 4);
 * ``mean-abs`` - time mean of |theta| < 0.1 (000 sec. 4 read with |theta|);
 * ``bounded``  - |theta| < pi/2 throughout;
-* ``floquet``  - the exact linear verdict: the inverted position is stable
+* ``floquet``  - the linear verdict: the inverted position is stable
   for Mathieu's equation with (theta0, theta1) of the canonical stage
   (:func:`pendulab.numerics.model.mathieu_parameters`, lambdified;
-  :func:`pendulab.analyses.floquet.is_stable`); for any other periodic drive
-  (Hill's equation) |tr M| < 2 of the monodromy matrix
-  (:func:`pendulab.numerics.monodromy.traces_along`).  No trajectory is integrated.
+  :func:`pendulab.analyses.floquet.is_stable`, double precision: a cell within
+  a few ulps of a characteristic curve takes is_stable's count, which may fall
+  on either side; :func:`pendulab.analyses.stability_map.map_stability` decides
+  such cells exactly); for any other periodic drive (Hill's equation)
+  |tr M| < 2 of the monodromy matrix
+  (:func:`pendulab.numerics.monodromy.traces_along`, DOP853, no margin
+  check).  No trajectory is integrated.
 
 Chunks and executors.  The cells are cut into chunks of ``chunk_size``
 consecutive cells (a function of the sweep only, never of the executor).

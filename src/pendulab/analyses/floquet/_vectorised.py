@@ -587,8 +587,9 @@ def _exponent_by_trace(f0, f1, cnt, below, above):
         d = se * (yE - y)
         t = 2.0 / np.pi * np.arcsin(np.sqrt(np.clip(d, 0.0, 2.0) / 2.0))
         mu = 2.0 / np.pi * np.arcsinh(np.sqrt(np.maximum(-d, 0.0) / 2.0))
-    sign = np.where(e == k, 1.0, -1.0)
-    out = np.where(band, e + sign * t + 0j, e + 1j * mu)
+        sign = np.where(e == k, 1.0, -1.0)
+        # (an overflowed trace gives mu = inf or nan here; such points are redone below)
+        out = np.where(band, e + sign * t + 0j, e + 1j * mu)
     bad = ~(np.isfinite(y) & np.isfinite(yE) & (np.abs(y) < 1e300))
     # d = (-1)^e (y(E) - y) leaves out 1 - (-1)^e y(E), zero at a true edge: the
     # edge's own trace must be +-1 to the trace's accuracy, or that term small
