@@ -290,7 +290,8 @@ def _resolved(ratio, inertia_ratio, digits=RESOLVE_DIGITS):
     """The exact band at the first of ``digits`` where its two ends differ, certified by
     :func:`pendulab.analyses.floquet.stability_limits` (ball arithmetic where the inputs are
     rational: a float is its exact binary value).  Returns (dps, lower text, upper text,
-    relative width, certified digits) or (last dps, None, None, None, certified digits)."""
+    relative width, certified digits, None) or, when the ends agree at every dps, (last dps,
+    None, None, None, certified digits, the digits both ends share)."""
     import mpmath
 
     from pendulab.analyses.floquet import stability_limits
@@ -300,8 +301,10 @@ def _resolved(ratio, inertia_ratio, digits=RESOLVE_DIGITS):
             lo, up = mpmath.mpf(band[0]), mpmath.mpf(band[1])
             if mpmath.nstr(lo, dps) != mpmath.nstr(up, dps):
                 width = float((up - lo) / up)
-                return dps, mpmath.nstr(lo, dps), mpmath.nstr(up, dps), width, band.certified_digits
-    return digits[-1], None, None, None, band.certified_digits
+                return (dps, mpmath.nstr(lo, dps), mpmath.nstr(up, dps), width,
+                        band.certified_digits, None)
+            shared = mpmath.nstr(lo, dps)
+    return digits[-1], None, None, None, band.certified_digits, shared
 
 
 def report(ratio, inertia_ratio=1, method="exact", exact_ratio=None, exact_inertia_ratio=None):
@@ -312,19 +315,19 @@ def report(ratio, inertia_ratio=1, method="exact", exact_ratio=None, exact_inert
     line} for each None), and, when the exact limits are one double, ``band``:
     {"digits": d, "certified_digits": c, "near": the double,
     "lower", "upper" (decimal texts of d digits), "relative_width"} where d digits separate
-    the ends, else the same with lower, upper, relative_width None ("not resolvable":
-    both ends agree in every one of d digits, so the band is narrower than about 10^(1-d)
-    of a/l); ``lower`` and ``upper`` are then None, with that reason.  ``exact_ratio`` and
+    the ends (``both_ends`` None), else the same with lower, upper, relative_width None and
+    ``both_ends`` the d digits the two ends share ("not resolvable": the band is narrower than
+    about 10^(1-d) of a/l); ``lower`` and ``upper`` are then None, with that reason.  ``exact_ratio`` and
     ``exact_inertia_ratio`` (Fraction or decimal text) are used for the digits when given.
     """
     lower, upper = limits(ratio, inertia_ratio, method)
     out = {"lower": lower, "upper": upper, "why": {}}
     if parse_method(method)[0] == "exact" and lower is not None and lower == upper:
-        dps, lo, up, width, proved = _resolved(
+        dps, lo, up, width, proved, shared = _resolved(
             ratio if exact_ratio is None else exact_ratio,
             inertia_ratio if exact_inertia_ratio is None else exact_inertia_ratio)
         out["band"] = {"digits": dps, "certified_digits": proved, "near": lower, "lower": lo,
-                       "upper": up, "relative_width": width}
+                       "upper": up, "relative_width": width, "both_ends": shared}
         out["lower"] = out["upper"] = None
         if lo is None:
             text = (f"not resolvable in double precision: the stable band lies at a/l = "

@@ -72,10 +72,14 @@ def run(args):
                 continue
             print(f"{key}: {_format(record[key]) if key in ('lower', 'upper') else record[key]}")
         band = found.get("band")
-        if band and band["lower"] is not None:
+        if band:
             proved = "certified " if band["certified_digits"] else ""
-            print(f"band at {band['digits']} {proved}digits: {band['lower']} to {band['upper']} "
-                  f"(relative width {band['relative_width']:.3g})")
+            if band["lower"] is not None:
+                print(f"band at {band['digits']} {proved}digits: {band['lower']} to "
+                      f"{band['upper']} (relative width {band['relative_width']:.3g})")
+            else:
+                print(f"band at {band['digits']} {proved}digits: both ends are "
+                      f"{band['both_ends']}")
         if note:
             print(f"note: {note}")
     return 0
