@@ -121,11 +121,12 @@ class StepCheck:
             return None
         need = max(self._steps_for(WARN_RATE, self.rate_upper),
                    self._steps_for(WARN_DRIVE, self.harmonic))
+        drive = (f"; dtau*r = {self.dt * self.harmonic:.3g} for the drive's highest harmonic "
+                 f"cos({self.harmonic:g} tau), limit {WARN_DRIVE:g}" if self.harmonic else "")
         return (f"warning: {label}: the RK4 step dtau = {self.dt:.6g} is stable but coarse "
-                f"(dtau*sqrt(max|q|) <= {self.dt * self.rate_upper:.3g}, limit {WARN_RATE:g}; "
-                f"dtau*r = {self.dt * self.harmonic:.3g} for the drive's highest harmonic "
-                f"cos({self.harmonic:g} tau), limit {WARN_DRIVE:g} {self._where()}): the numbers "
-                f"may be far from the equation's; {need} or more steps per drive period resolve it")
+                f"(dtau*sqrt(max|q|) <= {self.dt * self.rate_upper:.3g}, limit {WARN_RATE:g}"
+                f"{drive} {self._where()}): the numbers may be far from the equation's; {need} "
+                "or more steps per drive period resolve it")
 
 
 _COEFFICIENTS = {}
