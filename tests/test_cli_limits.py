@@ -180,8 +180,10 @@ AT_MAX = {
     ("sweep", "--omega-init"): [],
     ("sweep", "--periods"): [],
     ("sweep", "--steps-per-period"): [],
-    ("simulate", "--a-over-l"): [],
-    ("simulate", "--w0-over-w"): [],
+    # at the largest a/l and omega0/omega, one step per period is refused as unstable
+    # (pendulab.numerics.step_check): the steps that make it stable
+    ("simulate", "--a-over-l"): ["--steps-per-period", "200"],
+    ("simulate", "--w0-over-w"): ["--steps-per-period", "2300"],
     ("simulate", "--theta-init"): [],
     ("simulate", "--omega-init"): [],
     ("simulate", "--every"): [],
