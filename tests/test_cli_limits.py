@@ -185,8 +185,10 @@ AT_MAX = {
     ("sweep", "--omega-init"): [],
     ("sweep", "--periods"): [],
     ("sweep", "--steps-per-period"): [],
-    ("simulate", "--a-over-l"): [],
-    ("simulate", "--w0-over-w"): [],
+    # at the largest a/l and omega0/omega, one step per period is refused as unstable
+    # (pendulab.numerics.step_check): the steps that make it stable
+    ("simulate", "--a-over-l"): ["--steps-per-period", "200"],
+    ("simulate", "--w0-over-w"): ["--steps-per-period", "2300"],
     ("simulate", "--theta-init"): [],
     ("simulate", "--omega-init"): [],
     ("simulate", "--every"): [],
@@ -260,7 +262,7 @@ def test_simulate_reference_of_an_overflowing_run_is_one_line():
     # found by an audit: NumPy's and SciPy's RuntimeWarnings leaked on stderr.  The linear
     # equation at omega0/omega = 1000 grows like exp(2000 tau): RK4 overflows within a period.
     run = subprocess.run([sys.executable, "-m", "pendulab", "simulate", "--linear", "--w0-over-w",
-                          "1000", "--a-over-l", "0", "--periods", "1", "--steps-per-period", "50",
+                          "1000", "--a-over-l", "0", "--periods", "1", "--steps-per-period", "10000",
                           "--reference", "--json"], capture_output=True, text=True)
     assert run.returncode == 2 and run.stdout == ""
     err = _stderr(run)

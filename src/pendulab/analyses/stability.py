@@ -274,6 +274,123 @@ class ComparisonTable(dict):
         return html_table(self._caption(), ["omega0/omega"] + list(self["methods"]), self._rows())
 
 
+#: Digits at which the exact method computes a band again, in ball arithmetic, when its two
+#: limits are one double (:func:`report`); past the last the band is reported as unresolved.
+RESOLVE_DIGITS = (30, 100)
+
+
+def _none_reasons(method, ratio, inertia_ratio, lower, upper):
+    """{"lower"/"upper": why the method gives no such limit} for each limit that is None."""
+    kind, order = parse_method(method)
+    why = {}
+    missing = [name for name, value in (("lower", lower), ("upper", upper)) if value is None]
+    if not missing:
+        return why
+    theta0, _ = map_point(ratio, inertia_ratio)
+    if kind in ("eq19", "eq19-corrected"):
+        for name in missing:
+            why[name] = ("the averaging gives only a lower limit (000 eq. 19)" if name == "upper"
+                         else "the averaging gives no lower limit at this ratio")
+        return why
+    if kind in ("series", "eq28"):
+        n = 2 if kind == "eq28" else order
+        if "lower" in missing:
+            why["lower"] = (f"at order {n} no theta1 > 0 gives nu = 0 at theta0 = {theta0:.6g}: "
+                            "the truncated series theta0 = nu^2 + sum alpha_n theta1^n (000 eq. 27) "
+                            "has no positive root theta1 at nu^2 = 0")
+        if "upper" in missing:
+            why["upper"] = (f"at order {n} the truncated series has no fold before its pole at "
+                            f"nu = 1 (the branch nu^2(theta1) from nu^2 = theta0 = {theta0:.6g} "
+                            "reaches no largest theta1; docs/series.md; integer-series:N reaches "
+                            "the upper limit)")
+        return why
+    if kind == "integer-series":
+        import warnings
+
+        from pendulab.analyses.series import interval_integer_series_theta1
+        from pendulab.errors import AccuracyWarning
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always", AccuracyWarning)
+            found = interval_integer_series_theta1(order, theta0, on_domain="warn")
+        beyond = {str(w.message).split(":", 1)[0]: str(w.message) for w in said
+                  if issubclass(w.category, AccuracyWarning)}
+        for name, curve, root in (("lower", "a0", found[0]), ("upper", "b1", found[1])):
+            if name not in missing:
+                continue
+            if curve in beyond:
+                why[name] = f"order {order}: {beyond[curve]}"
+            elif root is None:
+                from pendulab.analyses.series import characteristic_series
+                # the range interval_integer_series_theta1 searches for the first crossing
+                top = 3.0 * float(characteristic_series(curve, order).radius) + 2 * abs(theta0)
+                why[name] = (f"order {order}: the truncated {curve} series does not reach "
+                             f"theta0 = {theta0:.6g} for 0 < theta1 <= {top:.6g}")
+        for name in missing:
+            why.setdefault(name, f"order {order}: the series gives no {name} limit here")
+        return why
+    for name in missing:
+        why[name] = f"method {method!r} gives no {name} limit at omega0/omega = {ratio!r}"
+    return why
+
+
+def _resolved(ratio, inertia_ratio, digits=RESOLVE_DIGITS):
+    """The exact band at the first of ``digits`` where its two ends differ, certified by
+    :func:`pendulab.analyses.floquet.stability_limits` (ball arithmetic where the inputs are
+    rational: a float is its exact binary value).  Returns (dps, lower text, upper text,
+    relative width, certified digits, None) or, when the ends agree at every dps, (last dps,
+    None, None, None, certified digits, the digits both ends share)."""
+    import mpmath
+
+    from pendulab.analyses.floquet import stability_limits
+    for dps in digits:
+        band = stability_limits(ratio, inertia_ratio, dps=dps)
+        with mpmath.workdps(dps + 10):
+            lo, up = mpmath.mpf(band[0]), mpmath.mpf(band[1])
+            if mpmath.nstr(lo, dps) != mpmath.nstr(up, dps):
+                width = float((up - lo) / up)
+                return (dps, mpmath.nstr(lo, dps), mpmath.nstr(up, dps), width,
+                        band.certified_digits, None)
+            shared = mpmath.nstr(lo, dps)
+    return digits[-1], None, None, None, band.certified_digits, shared
+
+
+def report(ratio, inertia_ratio=1, method="exact", exact_ratio=None, exact_inertia_ratio=None):
+    """:func:`limits` with the reason of every missing limit and, for the exact method, a band
+    too narrow for double precision computed again with more digits.
+
+    Returns a dict: ``lower``, ``upper`` (floats or None), ``why`` ({"lower"/"upper": one
+    line} for each None), and, when the exact limits are one double, ``band``:
+    {"digits": d, "certified_digits": c, "near": the double,
+    "lower", "upper" (decimal texts of d digits), "relative_width"} where d digits separate
+    the ends (``both_ends`` None), else the same with lower, upper, relative_width None and
+    ``both_ends`` the d digits the two ends share ("not resolvable": the band is narrower than
+    about 10^(1-d) of a/l); ``lower`` and ``upper`` are then None, with that reason.  ``exact_ratio`` and
+    ``exact_inertia_ratio`` (Fraction or decimal text) are used for the digits when given.
+    """
+    lower, upper = limits(ratio, inertia_ratio, method)
+    out = {"lower": lower, "upper": upper, "why": {}}
+    if parse_method(method)[0] == "exact" and lower is not None and lower == upper:
+        dps, lo, up, width, proved, shared = _resolved(
+            ratio if exact_ratio is None else exact_ratio,
+            inertia_ratio if exact_inertia_ratio is None else exact_inertia_ratio)
+        out["band"] = {"digits": dps, "certified_digits": proved, "near": lower, "lower": lo,
+                       "upper": up, "relative_width": width, "both_ends": shared}
+        out["lower"] = out["upper"] = None
+        if lo is None:
+            text = (f"not resolvable in double precision: the stable band lies at a/l = "
+                    f"{lower!r} and its two ends agree in all {dps} "
+                    f"{'certified ' if proved else ''}digits (narrower than about 1e-{dps - 1} of a/l)")
+        else:
+            text = (f"not resolvable in double precision: both ends round to {lower!r}; the "
+                    f"band's relative width is {width:.3g}, its ends at {dps} "
+                    f"{'certified ' if proved else ''}digits are given in band")
+        out["why"] = {"lower": text, "upper": text}
+        return out
+    out["why"] = _none_reasons(method, check_ratio(ratio), check_inertia_ratio(inertia_ratio),
+                               lower, upper)
+    return out
+
+
 def comparison(ratios, inertia_ratio=1, methods=DEFAULT_METHODS, series_order=None):
     """Limits of a/l on a grid of omega0/omega for several methods (table data).
 

@@ -81,6 +81,9 @@ def run(args):
     problems.raise_any()
     spec = S.make_spec(system, a_over_l=[a], w0_over_w=[w], theta_init=th, omega_init=om,
                        periods=periods, steps_per_period=steps, linear=args.linear)
+    from pendulab.numerics.step_check import enforce
+    said = []  # an unstable step is refused here, before any integration; a coarse one is said
+    enforce(spec, f"--steps-per-period {steps}", warn=said.append)
     import warnings
 
     import numpy as np
@@ -101,6 +104,8 @@ def run(args):
               "mean_theta": run["mean_theta"], "mean_abs_theta": run["mean_abs_theta"],
               "max_abs_theta": run["max_abs_theta"],
               "tau": tau.tolist(), "theta": states[:, 0].tolist(), "dtheta": states[:, 1].tolist()}
+    if said:
+        record["step_warning"] = said[0]
     if args.reference:
         record["theta_reference"] = ref[:, 0].tolist()
         record["max_error_theta"] = run["max_error_theta"]
@@ -126,6 +131,8 @@ def run(args):
         buf.write(f"{'tau':>12} {'theta':>22} {'dtheta/dtau':>22}\n")
         for k in range(len(tau)):
             buf.write(f"{tau[k]:12.6f} {states[k, 0]:22.15e} {states[k, 1]:22.15e}\n")
+    for line in said:
+        sys.stderr.write(f"pendulab: {line}\n")
     sys.stdout.write(buf.getvalue())
     return 0
 

@@ -41,9 +41,10 @@ def _format(value):
 
 def run(args):
     import sys
+    from fractions import Fraction
 
     from pendulab import limits as L
-    from pendulab.analyses.stability import limits, parse_method
+    from pendulab.analyses.stability import parse_method, report
     from pendulab.io import canonical_json
 
     problems = L.Problems()
@@ -60,11 +61,21 @@ def run(args):
     if body is not None:
         from pendulab import symbols as S
         from pendulab.systems import BODIES
-        inertia = float(BODIES[body] / (S.m * S.l**2))  # I/(m l^2) of the systems' own table
-    lower, upper = limits(ratio, inertia, args.method)
+        exact_inertia = Fraction(str(BODIES[body] / (S.m * S.l**2)))
+        inertia = float(exact_inertia)  # I/(m l^2) of the systems' own table
+    else:
+        exact_inertia = L.fraction(args.inertia_ratio)
+    # the digits of a band too narrow for doubles are those of the numbers as typed
+    found = report(ratio, inertia, args.method, exact_ratio=L.fraction(args.ratio),
+                   exact_inertia_ratio=exact_inertia)
+    lower, upper = found["lower"], found["upper"]
     record = {"lower": lower, "upper": upper, "method": args.method, "ratio": ratio,
               "body": body, "inertia_ratio": inertia}
-    note = _note(args.method, lower, upper)
+    if found["why"]:
+        record["why"] = found["why"]
+    if "band" in found:
+        record["band"] = found["band"]
+    note = _note(found)
     if note:
         record["note"] = note
     if plot_format is not None:
@@ -77,28 +88,26 @@ def run(args):
                 print(f"body: custom, I/(m l^2) = {args.inertia_ratio.strip()}")
                 continue
             print(f"{key}: {_format(record[key]) if key in ('lower', 'upper') else record[key]}")
+        band = found.get("band")
+        if band:
+            proved = "certified " if band["certified_digits"] else ""
+            if band["lower"] is not None:
+                print(f"band at {band['digits']} {proved}digits: {band['lower']} to "
+                      f"{band['upper']} (relative width {band['relative_width']:.3g})")
+            else:
+                print(f"band at {band['digits']} {proved}digits: both ends are "
+                      f"{band['both_ends']}")
         if note:
             print(f"note: {note}")
     return 0
 
 
-def _note(method, lower, upper):
-    """Why a limit is missing, or why two limits print as one number ("" when neither)."""
-    said = []
-    if lower is not None and upper is not None and lower == upper:
-        said.append("lower and upper agree to every digit of a double: the stable band is "
-                    "narrower than double precision resolves, so these are not two limits")
-    for name, value in (("lower", lower), ("upper", upper)):
-        if value is None:
-            if method.startswith("eq19"):
-                why = "the averaging gives only a lower limit"
-            elif method.startswith("series:"):
-                why = ("the truncated series has no fold before its pole at nu = 1 at this "
-                       "ratio (docs/series.md; integer-series:N reaches the upper limit)")
-            else:
-                why = "this method gives no such limit at this ratio"
-            said.append(f"{name} none: {why}")
-    return "; ".join(said)
+def _note(found):
+    """Why each limit is missing, one clause per limit ("" when neither is)."""
+    why = found["why"]
+    if "band" in found:  # one reason for both: the band is narrower than a double resolves
+        return f"lower and upper none: {why['lower']}"
+    return "; ".join(f"{name} none: {why[name]}" for name in ("lower", "upper") if name in why)
 
 
 def plot_ratios(ratio):

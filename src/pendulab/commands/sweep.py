@@ -145,11 +145,20 @@ def run(args):
     problems.raise_any()
     spec = S.make_spec(system, grid, theta_init=th, omega_init=om, periods=periods,
                        steps_per_period=steps, criterion=args.criterion, linear=args.linear)
+    said = []
+    if spec.criterion != "floquet":  # the floquet criterion integrates nothing
+        from pendulab.numerics.step_check import enforce
+        # an unstable step is refused before any cell runs; a coarse one is said
+        enforce(spec, f"--steps-per-period {steps}", warn=said.append)
     executor = "auto" if workers is None else ("serial" if workers == 1 else "processes")
     kwargs = dict(executor=executor, workers=workers, dask=args.dask, quiet=args.quiet)
     result = S.pruned_sweep(spec, **kwargs) if args.prune else S.sweep(spec, **kwargs)
     record = result.record()
     record["cells"] = spec.cells
+    if said:
+        record["step_warning"] = said[0]
+    for line in said:
+        sys.stderr.write(f"pendulab: {line}\n")
     if plot_format is not None:
         _plot(args.plot, plot_format, system, spec, result, record)
     if args.json:

@@ -149,6 +149,8 @@ def _prepared(ctx, options):
                 raise InputError(f"{' and '.join(wanted)}: the drive gives a Hill equation, and "
                                  f"{'they need' if len(wanted) > 1 else 'it needs'} Mathieu's "
                                  f"(theta0, theta1): set {' and '.join(k + ' = false' for k in wanted)}")
+        if [c for c in options["criteria"] if c != "floquet"] or options["first_experiment"]:
+            _check_step(spec, options, ctx.scene.path)
         kw = {"backend": options["backend"], "quiet": True}
         if options["dask"]:
             kw["dask"] = options["dask"]
@@ -159,6 +161,24 @@ def _prepared(ctx, options):
 def _sweep():
     from pendulab.numerics import sweep
     return sweep
+
+
+def _check_step(spec, options, path):
+    """Refuse the maps' and first experiment's RK4 step where it is unstable on their grids
+    (:func:`pendulab.numerics.step_check.enforce`); a coarse step is said on stderr."""
+    import sys
+
+    from pendulab.numerics import experiments as E
+    from pendulab.numerics.step_check import enforce
+    S = _sweep()
+    axes = [S.linspace_grid(options["grid"])] if options["maps"] else []
+    if options["first_experiment"]:
+        axes.append(E.axis(options["first_grid"], options["first_convention"]))
+    for values in axes:
+        grid = S.make_spec(spec, a_over_l=values, w0_over_w=values, periods=options["periods"],
+                           steps_per_period=options["steps_per_period"])
+        enforce(grid, f"steps_per_period = {options['steps_per_period']}",
+                warn=lambda line: sys.stderr.write(f"pendulab: {path}: products.experiments: {line}\n"))
 
 
 def _fine(ctx, spec, mathieu, w):
