@@ -53,7 +53,7 @@ def test_digits_of_other_scripts_are_refused_by_every_numeric_option(command, op
 
 def test_the_same_options_accept_ascii_digits(capsys):
     # the neighbour of the refusal: ASCII 3 (with a sign and spaces) is read
-    assert main(["sweep", "--grid", " +3 ", "--periods", "1", "--steps-per-period", "1",
+    assert main(["sweep", "--grid", " +3 ", "--periods", "1", "--steps-per-period", "20",
                  "--processes", "1", "--quiet", "--json"]) == 0
     assert '"cells": 9' in capsys.readouterr().out
     line = _one_error(capsys, ["sweep", "--grid", "1_0"])  # int() would read 10
@@ -150,7 +150,7 @@ def test_the_bessel_product_called_directly_lists_every_problem():
 
 HILL = "a*cos(omega*t) + a*cos(2*omega*t)"
 SMALL_SWEEP = ["sweep", "--drive", HILL, "--grid", "2", "--periods", "1", "--steps-per-period",
-               "4", "--criterion", "mean", "--processes", "1", "--quiet"]
+               "20", "--criterion", "mean", "--processes", "1", "--quiet"]
 
 
 def test_sweep_prune_with_a_hill_drive_names_the_option_not_the_floquet_criterion(capsys):
@@ -178,7 +178,7 @@ def test_pruned_sweep_of_a_hill_drive_says_pruning_needs_mathieu():
 def test_an_experiments_scene_with_a_hill_drive_and_prune_is_told_to_drop_prune(tmp_path, capsys):
     scene = tmp_path / "hill.toml"
     text = (f'system = "kapitza"\nparameters = {{drive = "{HILL}"}}\n[products.experiments]\n'
-            'criteria = ["mean"]\nmaps = ["text"]\ngrid = 2\nperiods = 1\nsteps_per_period = 4\n'
+            'criteria = ["mean"]\nmaps = ["text"]\ngrid = 2\nperiods = 1\nsteps_per_period = 20\n'
             'fig5 = false\nfig2 = false\nfigures = false\n')
     scene.write_text(text + "prune = true\n", encoding="utf-8")
     out = tmp_path / "out"

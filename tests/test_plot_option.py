@@ -345,10 +345,10 @@ def test_a_refused_plot_imports_nothing_heavy(tmp_path, argv):
 
 
 def test_a_run_refused_after_its_work_writes_no_plot(tmp_path, capsys):
-    # the linear equation at omega0/omega = 1000 grows like exp(2000 tau): RK4 overflows and
-    # the command refuses the run; the plot, drawn only from a finished run, is not written
+    # the linear equation at omega0/omega = 1000 grows like exp(2000 tau): RK4 (at a step its
+    # stability check accepts) overflows and the command refuses the run; the plot, drawn only from a finished run, is not written
     err = _refused(["simulate", "--linear", "--w0-over-w", "1000", "--a-over-l", "0", "--periods",
-                    "1", "--steps-per-period", "50", "--plot", str(tmp_path / "run.png")], capsys)
+                    "1", "--steps-per-period", "2300", "--plot", str(tmp_path / "run.png")], capsys)
     assert "overflowed" in err
     assert list(tmp_path.iterdir()) == []
 
