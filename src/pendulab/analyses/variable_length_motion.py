@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
+from sympy.core.evalf import PrecisionExhausted
 
 from pendulab import symbols as S
 from pendulab.errors import ConvergenceError, InputError
@@ -153,11 +154,21 @@ def _safe(fn):
 def _positive(expr, x, v):
     """Whether L(x) > 0, from its float ``v``; a float 0.0 (or one below the smallest normal
     double) is decided again from the expression at 30 digits, where exp(-745.4) is not 0:
-    underflow is not a zero."""
+    underflow is not a zero.
+
+    Strict: only a real number that evalf computes to its 30 digits (``strict=True``) and
+    that is > 0 counts as positive.  An exact zero (1 - t at t = 1, which plain evalf
+    returns as a digitless 0.e-165 that compares > 0), a value evalf cannot tell from 0, a
+    pole, a complex value or an expression left with a symbol is refused (False)."""
     if v > 2.3e-308 or v < 0 or v != v:
         return v > 0
-    exact = sp.sympify(expr).evalf(30, subs={S.t: sp.Float(repr(float(x)), 30)})
-    return bool(exact.is_real and exact > 0)
+    try:
+        exact = sp.sympify(expr).evalf(30, subs={S.t: sp.Float(repr(float(x)), 30)}, strict=True)
+    except (PrecisionExhausted, ValueError, TypeError, ZeroDivisionError, ArithmeticError):
+        return False
+    if not (exact.is_Number and exact.is_extended_real and exact.is_finite):
+        return False
+    return bool(exact > 0)
 
 
 #: samples of (0, horizon] scanned by :func:`length_zero_time` and :func:`length_floor_time`
