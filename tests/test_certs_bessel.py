@@ -325,6 +325,24 @@ def test_the_claim_is_false_for_a_margin_just_below_zero(monkeypatch):
     assert q.claim_holds is False
 
 
+def test_a_margin_ball_that_holds_zero_is_refused_not_retried_forever(monkeypatch):
+    """j_1,3 moved so that margin_after[1] is exactly 0 (as a ball, it holds 0 at every
+    precision): no sign and no digit can be proved, so quarter_periods refuses after its
+    precision raises (it used to raise the precision forever)."""
+    real = bp.bessel_zeros
+
+    def moved(nu, count, dps, extra_bits=0, window_bits=None):
+        res = real(nu, count, dps, extra_bits)
+        if nu == 1:
+            j2 = real(2, count, dps, extra_bits).balls
+            with bz._Prec(bz.bits_for(dps) + extra_bits + 16):
+                res.balls[2] = ((j2[1] ** 2 + j2[2] ** 2) / 2).sqrt()
+        return res
+    monkeypatch.setattr(bp, "bessel_zeros", moved)
+    with pytest.raises(bz.CertificationError, match="cannot be rounded to 6 digits"):
+        bp.quarter_periods(3, 6)
+
+
 def test_toward_swings_verdict_sees_a_shorter_toward_swing():
     """bessel.toward_swings_are_longer on the source's durations, and with the second
     toward swing made shorter than the outward one after it."""
