@@ -17,6 +17,7 @@ Next to each test: which inner function a wrong candidate is slipped through, if
 from fractions import Fraction
 
 import mpmath
+import numpy as np
 import pytest
 import sympy as sp
 from flint import arb
@@ -400,3 +401,16 @@ def test_an_underflowing_length_with_an_exact_zero_is_found(length):
     expr = sp.sympify(length, locals={"t": S.t})
     vlm._LENGTH_FUNCTIONS.clear()
     assert vlm.length_zero_time(expr, {}, horizon=4.0) == 1.0
+
+
+def test_swings_of_a_trajectory_refuse_two_turning_points_in_a_row():
+    """quarter_periods of a trajectory needs the events to alternate (turning point, theta = 0,
+    ...): a missed crossing between two turning points is refused, not paired up."""
+    t = np.linspace(0.0, 4.0, 5)
+    good = vlm.Trajectory(t, np.zeros(5), np.zeros(5), {}, True,
+                          (np.array([2.0]), np.array([0.1])), np.array([1.0, 3.0]))
+    assert [k for k, _, _ in vlm.quarter_periods(good)] == ["toward", "outward", "toward"]
+    missed = vlm.Trajectory(t, np.zeros(5), np.zeros(5), {}, True,
+                            (np.array([2.0]), np.array([0.1])), np.array([3.0]))
+    with pytest.raises(vlm.ConvergenceError, match="two turn events in a row"):
+        vlm.quarter_periods(missed)
