@@ -415,3 +415,20 @@ def test_swings_of_a_trajectory_refuse_two_turning_points_in_a_row():
                             (np.array([2.0]), np.array([0.1])), np.array([3.0]))
     with pytest.raises(vlm.ConvergenceError, match="two turn events in a row"):
         vlm.quarter_periods(missed)
+
+
+@pytest.mark.parametrize("length, first_zero", [
+    ("5*(t - 7/3)**2", 7 / 3), ("(t - 1/7)**2*(t + 2)", 1 / 7), ("(t - pi)**2", 3.141592653589793),
+    ("(t - 3/10)**2 + 1/10**14", None), ("(t - 2)**3*(t - 1/3)", 1 / 3), ("1 + t**2", None)])
+def test_a_polynomial_length_that_touches_zero_is_found(length, first_zero):
+    """A double root (L touches 0 and comes back) is a zero of L: the exact real roots find
+    it, where numpy.roots had made 5 (t - 7/3)^2 a complex pair (imaginary part 4.6e-8 >
+    the 1e-12 test) and reported no zero.  References by inspection of the factors; the
+    length that stays above 1e-14 has none."""
+    expr = sp.expand(sp.sympify(length, locals={"t": S.t}))
+    vlm._LENGTH_FUNCTIONS.clear()
+    got = vlm.length_zero_time(expr, {})
+    if first_zero is None:
+        assert got is None
+    else:
+        assert got == pytest.approx(first_zero, rel=1e-15, abs=0), (length, got)

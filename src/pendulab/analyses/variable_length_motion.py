@@ -188,6 +188,28 @@ def _scan(length, values, horizon):
     return None
 
 
+def _first_positive_root(poly):
+    """The least real root t > 0 of the polynomial ``poly`` in t (a float), or None.
+
+    Decided exactly where the coefficients are numbers: each Float is its exact binary
+    value, and SymPy's real_roots (isolating intervals, Sturm/Vincent) finds every real root
+    with its multiplicity, so a double root (a length that touches 0: 5 (t - 7/3)^2) is not
+    lost as a pair of complex roots with an imaginary part of 1e-8.  Other coefficients
+    (irrational constants such as pi) go to numpy.roots, on the square-free part of the
+    polynomial (its roots are simple, so their imaginary parts are a rounding away from 0),
+    with a 1e-12 test on the imaginary parts.
+    """
+    coeffs = poly.all_coeffs()
+    if all(c.is_Rational or c.is_Float for c in coeffs):
+        exact = sp.Poly([sp.Rational(c) for c in coeffs], S.t)
+        positive = [r for r in exact.real_roots() if r.is_positive]
+        return float(positive[0].evalf(30)) if positive else None
+    coeffs = sp.Poly(sp.sqf_part(poly.as_expr()), S.t).all_coeffs()
+    roots = [complex(r) for r in np.roots([complex(c) for c in coeffs])]
+    positive = sorted(r.real for r in roots if abs(r.imag) <= 1e-12 * max(1, abs(r)) and r.real > 0)
+    return positive[0] if positive else None
+
+
 def _length_event(length, values, horizon):
     """(kind, t) of the first t in (0, ``horizon``] where L(t) stops being a positive real:
     kind "zero" (a sign change through 0, or a zero of the expression), "singular" (a sign
@@ -198,9 +220,8 @@ def _length_event(length, values, horizon):
         poly = sp.Poly(expr, S.t)
         if poly.degree() < 1:
             return None
-        roots = [complex(r) for r in np.roots([float(c) for c in poly.all_coeffs()])]
-        positive = sorted(r.real for r in roots if abs(r.imag) <= 1e-12 * max(1, abs(r)) and r.real > 0)
-        return ("zero", positive[0]) if positive else None
+        first = _first_positive_root(poly)
+        return ("zero", first) if first is not None else None
     if horizon is None:
         return None
     from pendulab.numerics.roots import brent_root
