@@ -432,3 +432,19 @@ def test_a_polynomial_length_that_touches_zero_is_found(length, first_zero):
         assert got is None
     else:
         assert got == pytest.approx(first_zero, rel=1e-15, abs=0), (length, got)
+
+
+def test_the_inverse_of_z_is_used_only_when_it_gives_back_l_and_t():
+    """The fast residual route writes L (or t) back from z; an inverse that does not undo
+    z = k L^beta (a wrong k) or L(t) (a wrong z(t)) is refused (None), and the slow route
+    is taken instead."""
+    L, z, t = S.Lvar, S.z, S.t
+    k, beta = 2 * sp.sqrt(S.g) / S.v0, sp.Rational(1, 2)
+    right = bs._inverse_power(k * L ** beta, k, beta)
+    assert sp.simplify(right - (z / k) ** 2) == 0
+    assert bs._inverse_power(3 * k * L ** beta, k, beta) is None
+    length = S.L0 + S.v0 * t
+    z_t = (k * L ** beta).subs(L, length)
+    assert bs._inverse_linear(length, right, z_t) is not None
+    assert bs._inverse_linear(length, right, (2 * k * L ** beta).subs(L, length)) is None
+    assert bs._inverse_linear(S.L0 + S.v0 * t ** 2, right, z_t) is None
