@@ -194,7 +194,7 @@ def _j_fourth_derivative_bounds(n_top, x):
 
 
 def _y_fourth_derivative_bounds(n_top, zb, J, Y):
-    """[sup |Y_n| on [z, oo) for n = 0..n_top-1]: |Y_n| <= (|Y_n-4| + 4|Y_n-2| + 6|Y_n|
+    """[sup |Y_n''''| on [z, oo) for n = 0..n_top-1]: |Y_n''''| <= (|Y_n-4| + 4|Y_n-2| + 6|Y_n|
     + 4|Y_n+2| + |Y_n+4|)/16 (DLMF 10.6.7) <= M_n+4, M_m = sqrt(J_m^2 + Y_m^2), which by
     Nicholson's formula (DLMF 10.9.30) decreases in x > 0 and increases in the order m >= 0
     (Y_-m = (-1)^m Y_m).  ``zb`` is z as a ball, ``J``, ``Y`` the balls of orders 0..n_top at z;
