@@ -229,9 +229,11 @@ def test_arb_certified_is_true_only_for_balls_that_hold_the_exact_values(monkeyp
     ball misses -2/(pi z): the flag is False, with either engine set.  It is True for the
     right balls and None when the arb engine did not run."""
     assert bi.check_identities(2, 30, [0.5]).arb_certified is True
-    assert bi.check_identities(2, 30, [0.5], engines=("mpmath",)).arb_certified is None
+    alone = bi.check_identities(2, 30, [0.5], engines=("mpmath",))
+    assert alone.arb_certified is None and "did not run" in alone._caption()[1]
     _perturbed_arb(monkeypatch, "3e-36")
-    assert bi.check_identities(2, 30, [0.5], engines=("arb",)).arb_certified is False
+    wrong = bi.check_identities(2, 30, [0.5], engines=("arb",))
+    assert wrong.arb_certified is False and "misses" in wrong._caption()[1]
     rep = bi.check_identities(2, 30, [0.5])  # the engines still agree within 1e-35
     assert rep.agreements == 14 and rep.arb_certified is False
 

@@ -118,8 +118,9 @@ class IdentityReport:
                 for (engine, rule), v in sorted(self.by_rule.items())]
 
     def _caption(self):
-        balls = "every arb ball contains its exact value" if self.arb_certified else \
-            "an arb ball misses its exact value"
+        balls = {True: "every arb ball contains its exact value",
+                 False: "an arb ball misses its exact value",
+                 None: "no arb balls (the arb engine did not run)"}[self.arb_certified]
         return (f"worst relative errors of the identities at {self.dps} digits, n from 0 to "
                 f"{self.nmax}, {len(self.points)} points", balls)
 
