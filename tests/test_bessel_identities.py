@@ -58,19 +58,22 @@ def test_high_precision_arb_only():
 
 
 def test_a_wrong_engine_is_caught(monkeypatch):
-    """Perturb mpmath's Y_1 by one part in 10^20: the engines no longer agree."""
+    """Perturb mpmath's Y_1 by 3 parts in 10^35, three times the agreement tolerance
+    10^-(dps+5) at dps = 30 (a tolerance 10 times looser would let it through): the engines
+    no longer agree.  Unperturbed, mpmath's worst error is ~1e-40 (it works at 40 digits)."""
+    assert bi.check_identities(2, 30, [0.5], engines=("mpmath",)).worst[0] < mpmath.mpf(10) ** -38
     real = bi._mp_values
 
     def broken(n_top, z, dps, derivatives=True):
         J, Y, dJ, dY = real(n_top, z, dps, derivatives)
-        with mpmath.workdps(dps + 10):
-            Y[1] = Y[1] * (1 + mpmath.mpf(10) ** -20)
+        with mpmath.workdps(bi.mp_digits(dps)):
+            Y[1] = Y[1] * (1 + 3 * mpmath.mpf(10) ** -35)
         return J, Y, dJ, dY
     monkeypatch.setattr(bi, "_mp_values", broken)
     with pytest.raises(bi.EngineDisagreement, match="Y_1"):
         bi.check_identities(2, 30, [0.5])
     rep = bi.check_identities(2, 30, [0.5], engines=("mpmath",))
-    assert rep.worst[0] > mpmath.mpf(10) ** -22  # and the checker reports the broken identity
+    assert rep.worst[0] > mpmath.mpf(10) ** -35  # and the checker reports the broken identity
     assert rep.worst[2] in ("cross", "derivative_Y", "wronskian")
 
 

@@ -27,8 +27,8 @@ from dataclasses import dataclass, field
 
 from flint import arb
 
-from pendulab.analyses.bessel_zeros import (_Prec, ball_digits, bessel_zeros, bits_for, check_count,
-                                            check_dps, check_interlacing)
+from pendulab.analyses.bessel_zeros import (CertificationError, _Prec, ball_digits, bessel_zeros,
+                                            bits_for, check_count, check_dps, check_interlacing)
 from pendulab.errors import InputError
 
 GROWING, SHORTENING = "growing", "shortening"
@@ -125,11 +125,18 @@ def quarter_periods(count, dps, direction=GROWING, start=None):
                          f"quarter periods before L reaches 0, not {count}")
     nmax = start + count + 1 if direction == GROWING else start
     extra = int(math.log2(4 * nmax + 8)) + 8  # differences of squares lose log2(x) bits
-    while True:
+    for _ in range(MAX_RAISES):
         res = _compute(count, dps, direction, start, nmax, extra)
         if res is not None:
             return res
         extra += 32
+    raise CertificationError(f"a quarter period or margin still cannot be rounded to {dps} digits "
+                             f"with {32 * MAX_RAISES} more bits: its ball holds 0 or a rounding "
+                             "boundary (a margin of exactly 0 would never be decided)")
+
+
+#: how many times :func:`quarter_periods` raises the precision (by 32 bits) before it refuses
+MAX_RAISES = 16
 
 
 def _compute(count, dps, direction, m, nmax, extra):

@@ -11,7 +11,7 @@ j_nu,1 < j_nu,2 < ... to ``dps`` significant digits, each digit proved:
    in python-flint's arb at doubling precision.
 3. **Certificate of the zero**: one interval Newton step on X = [m - r, m + r]:
    N(X) = m - f(m)/f'(X).  f'(X) is enclosed by f'(m) +- r sup_X |f''|, and
-   sup_X |f''| <= (nu/x + 1)/x + |1 - nu^2/x^2| at x = inf X, from Bessel's
+   sup_X |f''| <= (nu/x + 1)/x + max(|1 - nu^2/x^2|, 1) at x = inf X, from Bessel's
    equation f'' = -f'/x - (1 - nu^2/x^2) f with |J_nu| <= 1 (DLMF 10.14.1)
    and |f'| <= nu/x + 1.  If f'(X) excludes 0 and N(X) lies inside X, X holds
    exactly one zero, and it lies in N(X) (the returned ball).
@@ -256,9 +256,17 @@ def _eval(nu, x, bits, tol_bits):
 
 
 def second_derivative_bound(nu_b, lo):
-    """sup |J_nu''| on [lo, oo), lo > 0, from Bessel's equation (see the module docstring)."""
+    """sup |J_nu''| on [lo, oo), lo > 0, from Bessel's equation (see the module docstring).
+
+    Each term is bounded by its supremum over x >= lo: (nu/x + 1)/x decreases, but
+    |1 - nu^2/x^2| falls to 0 at x = nu and then rises toward 1, so its supremum is
+    max(|1 - nu^2/lo^2|, 1), not its value at lo (for lo = nu that value is 0).
+    """
     t = nu_b / lo
-    return ((t + 1) / lo + abs(1 - t * t)).abs_upper()
+    swing = abs(1 - t * t).abs_upper()  # an exact upper bound: compared with 1 decisively
+    if not swing > 1:
+        swing = arb(1)
+    return ((t + 1) / lo + swing).abs_upper()
 
 
 def interval_newton(nu, mid, radius, bits):

@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
+from sympy.core.evalf import PrecisionExhausted
 
 from pendulab import symbols as S
 from pendulab.errors import ConvergenceError, InputError
@@ -153,11 +154,21 @@ def _safe(fn):
 def _positive(expr, x, v):
     """Whether L(x) > 0, from its float ``v``; a float 0.0 (or one below the smallest normal
     double) is decided again from the expression at 30 digits, where exp(-745.4) is not 0:
-    underflow is not a zero."""
+    underflow is not a zero.
+
+    Strict: only a real number that evalf computes to its 30 digits (``strict=True``) and
+    that is > 0 counts as positive.  An exact zero (1 - t at t = 1, which plain evalf
+    returns as a digitless 0.e-165 that compares > 0), a value evalf cannot tell from 0, a
+    pole, a complex value or an expression left with a symbol is refused (False)."""
     if v > 2.3e-308 or v < 0 or v != v:
         return v > 0
-    exact = sp.sympify(expr).evalf(30, subs={S.t: sp.Float(repr(float(x)), 30)})
-    return bool(exact.is_real and exact > 0)
+    try:
+        exact = sp.sympify(expr).evalf(30, subs={S.t: sp.Float(repr(float(x)), 30)}, strict=True)
+    except (PrecisionExhausted, ValueError, TypeError, ZeroDivisionError, ArithmeticError):
+        return False
+    if not (exact.is_Number and exact.is_extended_real and exact.is_finite):
+        return False
+    return bool(exact > 0)
 
 
 #: samples of (0, horizon] scanned by :func:`length_zero_time` and :func:`length_floor_time`
@@ -177,6 +188,28 @@ def _scan(length, values, horizon):
     return None
 
 
+def _first_positive_root(poly):
+    """The least real root t > 0 of the polynomial ``poly`` in t (a float), or None.
+
+    Decided exactly where the coefficients are numbers: each Float is its exact binary
+    value, and SymPy's real_roots (isolating intervals, Sturm/Vincent) finds every real root
+    with its multiplicity, so a double root (a length that touches 0: 5 (t - 7/3)^2) is not
+    lost as a pair of complex roots with an imaginary part of 1e-8.  Other coefficients
+    (irrational constants such as pi) go to numpy.roots, on the square-free part of the
+    polynomial (its roots are simple, so their imaginary parts are a rounding away from 0),
+    with a 1e-12 test on the imaginary parts.
+    """
+    coeffs = poly.all_coeffs()
+    if all(c.is_Rational or c.is_Float for c in coeffs):
+        exact = sp.Poly([sp.Rational(c) for c in coeffs], S.t)
+        positive = [r for r in exact.real_roots() if r.is_positive]
+        return float(positive[0].evalf(30)) if positive else None
+    coeffs = sp.Poly(sp.sqf_part(poly.as_expr()), S.t).all_coeffs()
+    roots = [complex(r) for r in np.roots([complex(c) for c in coeffs])]
+    positive = sorted(r.real for r in roots if abs(r.imag) <= 1e-12 * max(1, abs(r)) and r.real > 0)
+    return positive[0] if positive else None
+
+
 def _length_event(length, values, horizon):
     """(kind, t) of the first t in (0, ``horizon``] where L(t) stops being a positive real:
     kind "zero" (a sign change through 0, or a zero of the expression), "singular" (a sign
@@ -187,9 +220,8 @@ def _length_event(length, values, horizon):
         poly = sp.Poly(expr, S.t)
         if poly.degree() < 1:
             return None
-        roots = [complex(r) for r in np.roots([float(c) for c in poly.all_coeffs()])]
-        positive = sorted(r.real for r in roots if abs(r.imag) <= 1e-12 * max(1, abs(r)) and r.real > 0)
-        return ("zero", positive[0]) if positive else None
+        first = _first_positive_root(poly)
+        return ("zero", first) if first is not None else None
     if horizon is None:
         return None
     from pendulab.numerics.roots import brent_root
