@@ -83,3 +83,13 @@ def test_the_check_sees_a_missing_test_and_a_missing_place():
     assert any("no_such_module" in p for p in found)
     assert any("not tests/FILE.py::NAME" in p for p in found)
     assert len(found) == 4
+
+
+def test_every_section_lists_its_proof_steps():
+    # each section of the doc names at least one step with its negative test; an emptied
+    # section (its rows lost in an edit) fails here, not silently
+    text = DOC.read_text()
+    sections = [line[3:].strip() for line in text.splitlines() if line.startswith("## ")]
+    assert len(sections) >= 5
+    listed = {s for s, *_ in rows(text)}
+    assert [s for s in sections if s not in listed] == []
