@@ -55,9 +55,10 @@ def with_drive(args, system, problems):
 
 
 def backend_estimate():
-    """"c" when a C compiler is found (the "auto" backend then builds the C kernel), else "numpy"."""
-    from pendulab.numerics.ckernel import compiler_command
-    return "c" if compiler_command() else "numpy"
+    """"c" when the C compiler is found on this machine (the "auto" backend then builds the C
+    kernel), else "numpy" (the cost model then takes the NumPy path's speed)."""
+    from pendulab.numerics.ckernel import compiler_found
+    return "c" if compiler_found() else "numpy"
 
 
 def add_parser(sub):

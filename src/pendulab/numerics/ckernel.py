@@ -76,6 +76,14 @@ def compiler_command():
     return shlex.split(text)
 
 
+def compiler_found():
+    """The path of the C compiler :func:`compiler_command` names where it is found on this
+    machine (on the PATH, or as given), else None: whether the "auto" backend can expect C
+    (a found compiler may still fail; :func:`available` compiles a probe to know)."""
+    cmd = compiler_command()
+    return shutil.which(cmd[0]) if cmd else None
+
+
 def cache_dir():
     """The directory compiled kernels are cached in (see the module docstring)."""
     base = os.environ.get("PENDULAB_CACHE_DIR")
