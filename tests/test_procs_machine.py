@@ -1,17 +1,24 @@
-"""pendulab on a machine without a C compiler, found as pendulab finds one.
+"""pendulab on another machine: one without a C compiler, one without AVX-512.
 
-No ``$PENDULAB_CC``, no ``$CC`` and a PATH on which there is no ``cc`` (an empty directory):
+Without a compiler, found as pendulab finds one.  No ``$PENDULAB_CC``, no ``$CC`` and a PATH on which there is no ``cc`` (an empty directory):
 the lookup itself finds nothing, not a variable that names a missing file.  Then the kernels
 take the NumPy path (after one notice), the tests marked ``needs_cc`` skip (tests/conftest.py
 asks the same lookup), and the work limits of ``pendulab sweep`` and ``pendulab simulate`` are
 those of the NumPy path: a sweep that the C kernel would finish within the budget, and the
 NumPy path not, is refused at once instead of running for half an hour.
+
+Without AVX-512: NumPy's float64 pow, log and exp loops for AVX-512 differ from the C
+library's in the last bits, and NumPy calls the C library elsewhere; the committed outputs
+must come out the same either way.  NumPy's dispatch is switched off in a child process by
+``NPY_DISABLE_CPU_FEATURES`` (only where this machine has AVX-512 to switch off).
 """
 
 import os
 import subprocess
 import sys
 import time
+
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -34,9 +41,12 @@ def no_cc(tmp_path, monkeypatch):
     ckernel.clear_loaded()
 
 
+SRC = str(Path(__file__).resolve().parents[1] / "src")
+
+
 def _env(no_cc):
     env = {k: v for k, v in os.environ.items() if k not in ("CC", "PENDULAB_CC")}
-    env["PATH"] = str(no_cc)
+    env.update(PATH=str(no_cc), PYTHONPATH=SRC)
     return env
 
 
@@ -92,3 +102,46 @@ def test_without_cc_the_work_limit_is_the_numpy_paths(no_cc, argv, why):
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and why in lines[0] and "no C compiler found" in lines[0], lines
     assert time.monotonic() - start < 30
+
+
+ROOT = Path(SRC).parent
+
+
+def _avx512_dispatch():
+    """NumPy's dispatched AVX-512 targets that are on here (names as NPY_DISABLE_CPU_FEATURES
+    takes them), or [] where there are none or NumPy does not say."""
+    try:
+        from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+    except ImportError:
+        return []
+    return [f for f in __cpu_dispatch__
+            if __cpu_features__.get(f) and (f.startswith("AVX512") or f == "X86_V4")]
+
+
+@pytest.mark.slow
+def test_the_variable_length_outputs_do_not_depend_on_numpys_avx512_loops(tmp_path):
+    """The committed variable-length scene built as it is here and with NumPy's AVX-512 loops
+    switched off gives the committed generated/ both times (its envelope figure took NumPy's
+    pow, log and matplotlib's log axes: 3 PDF coordinates and 70 PNG pixels moved)."""
+    off = _avx512_dispatch()
+    if not off:
+        pytest.skip("NumPy takes no AVX-512 loops here: there is no second path to compare")
+    committed = ROOT / "generated" / "variable-length"
+    check = ("from numpy._core._multiarray_umath import __cpu_features__ as f; "
+             f"print(sum(bool(f.get(k)) for k in {off!r}))")
+    for name, extra in (("as-is", {}), ("no-avx512", {"NPY_DISABLE_CPU_FEATURES": " ".join(off)})):
+        env = dict(os.environ, PYTHONPATH=SRC, PENDULAB_CACHE_DIR=str(tmp_path / "cache"), **extra)
+        on = subprocess.run([sys.executable, "-c", check], env=env, capture_output=True,
+                            text=True, timeout=60)
+        assert on.stdout.strip() == ("0" if extra else str(len(off))), on
+        out = tmp_path / name
+        run = subprocess.run([sys.executable, "-m", "pendulab", "build",
+                              str(ROOT / "derivations" / "variable-length.toml"), "--force",
+                              "--out", str(out)], env=env, capture_output=True, text=True,
+                             timeout=300)
+        assert run.returncode == 0, run.stderr[-2000:]
+        built = out / "variable-length"
+        names = sorted(p.name for p in committed.iterdir())
+        assert sorted(p.name for p in built.iterdir()) == names
+        differ = [n for n in names if (built / n).read_bytes() != (committed / n).read_bytes()]
+        assert differ == [], f"{name}: {differ}"
