@@ -5,7 +5,7 @@ the lookup itself finds nothing, not a variable that names a missing file.  Then
 take the NumPy path (after one notice), the tests marked ``needs_cc`` skip (tests/conftest.py
 asks the same lookup), and the work limits of ``pendulab sweep`` and ``pendulab simulate`` are
 those of the NumPy path: a sweep that the C kernel would finish within the budget, and the
-NumPy path not, is refused at once instead of running for half an hour.
+NumPy path not, is refused at once instead of running for 25 minutes.
 
 Without AVX-512: NumPy's float64 pow, log and exp loops for AVX-512 differ from the C
 library's in the last bits, and NumPy calls the C library elsewhere; the committed outputs
