@@ -6,8 +6,6 @@ pendulab reads, e.g. ``PENDULAB_CC=/nonexistent CC=/nonexistent``: the C tests s
 every other test runs on the NumPy path (fixtures that unset PENDULAB_CC still meet $CC).
 """
 
-import shutil
-
 import mpmath
 import pytest
 
@@ -15,9 +13,8 @@ import pytest
 def c_compiler():
     """The C compiler pendulab would run ($PENDULAB_CC, else $CC, else cc) where it is found
     on this machine, else None."""
-    from pendulab.numerics.ckernel import compiler_command
-    cmd = compiler_command()
-    return shutil.which(cmd[0]) if cmd else None
+    from pendulab.numerics.ckernel import compiler_found
+    return compiler_found()
 
 
 def pytest_runtest_setup(item):

@@ -7,6 +7,7 @@ lambdified), and mpmath's sine at 30 digits for the kernel's vectorisable sine.
 
 import math
 import os
+import shlex
 import subprocess
 import sys
 import textwrap
@@ -236,8 +237,9 @@ def _script(path, body):
 @pytest.mark.needs_cc
 def test_cache_hit_on_second_use(tmp_path, monkeypatch):
     log = tmp_path / "calls.log"
+    real = shlex.join([ckernel.compiler_found(), *ckernel.compiler_command()[1:]])  # $CC or cc
     cc = _script(tmp_path / "cc-logged", f'case "$*" in *-shared*) echo compile >> "{log}";; esac\n'
-                                         'exec cc "$@"\n')
+                                         f'exec {real} "$@"\n')
     monkeypatch.setenv("PENDULAB_CC", str(cc))
     monkeypatch.setenv("PENDULAB_CACHE_DIR", str(tmp_path / "cache"))
     fos = system("string-linear")

@@ -237,3 +237,34 @@ def test_die_with_parent_arms_the_signal_and_one_watchdog_thread():
     assert run.returncode == 0, run
     want = "pdeathsig watchdog" if sys.platform.startswith("linux") else "watchdog"
     assert run.stdout.split() == [*want.split(), "1"], run
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG is Linux's")
+def test_an_external_program_started_with_the_death_signal_dies_with_its_parent():
+    """procs.parent_death_signal as subprocess's preexec_fn (the animation runs ffmpeg so): a
+    program that can watch no pid (here sleep, as an ffmpeg waiting on its input) is killed
+    when the Python process that started it is SIGKILLed."""
+    code = """\
+import subprocess, sys
+from pendulab.procs import parent_death_signal
+child = subprocess.Popen(["sleep", "120"], preexec_fn=parent_death_signal)
+print(child.pid, flush=True)
+child.wait()
+"""
+    proc = subprocess.Popen([sys.executable, "-c", code], env=dict(os.environ, PYTHONPATH=SRC),
+                            stdout=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        child = int(proc.stdout.readline())
+        start = _stat(child)[3]
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=30)
+        deadline = time.monotonic() + GRACE
+        while _alive(child, start) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not _alive(child, start), _cmdline(child)
+    finally:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except OSError:
+            pass
+        proc.wait()

@@ -539,25 +539,3 @@ def test_length_function_is_formed_once_per_length_and_numbers(growing):
     assert f3 is not f1 and f3(0.0) == 2.0 and f1(10.0) == 1.1
     with pytest.raises(InputError, match="needs numbers for v0"):
         vm.length_function(growing.length, {"L0": 1.0})
-
-
-def test_the_envelope_figures_power_laws_are_the_fit_and_its_residual():
-    # The envelope figure draws c L^q through the amplitudes and amp/(c L^q) - 1 beneath; they
-    # are computed in mpmath so that every processor draws the same bits.  Checked against the
-    # same quantities in plain NumPy on amplitudes that follow L^(-3/4) with a known wobble.
-    import numpy as np
-
-    from pendulab.products.motion import _laws
-    ls = np.linspace(1.0, 2.0, 40)
-    wobble = 1e-7 * np.sin(7 * ls)
-    amp = 0.05 * ls ** -0.75 * (1 + wobble)
-    (fit, law), grid, residual = _laws(amp, ls, (-0.7, -0.75), points=25)
-    assert np.allclose(grid, np.geomspace(1.0, 2.0, 25), rtol=1e-14, atol=0)
-    c = np.exp(np.mean(np.log(amp) + 0.75 * np.log(ls)))
-    assert np.allclose(law, c * grid ** -0.75, rtol=1e-13, atol=0)
-    c7 = np.exp(np.mean(np.log(amp) + 0.7 * np.log(ls)))
-    assert np.allclose(fit, c7 * grid ** -0.7, rtol=1e-13, atol=0)
-    # the residual is the wobble about its geometric mean, to far better than its size
-    expected = amp / (c * ls ** -0.75) - 1
-    assert np.max(np.abs(residual - expected)) < 1e-15
-    assert np.max(np.abs(residual - (wobble - np.mean(wobble)))) < 1e-13

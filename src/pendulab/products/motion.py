@@ -420,25 +420,69 @@ def figure_theta(doc, keep):
             plt.close(fig)
 
 
-def _laws(amp, ls, exponents, points=50):
-    """For each exponent q: c L^q on ``points`` lengths spaced geometrically over ``ls``, with c
-    the geometric-mean fit to the amplitudes ``amp``; the lengths; and amp/(c L^q) - 1 for the
-    last q.  Computed in mpmath at 30 digits and rounded once, so the same on every processor."""
-    import mpmath
+# The envelope figure computes its powers, logarithms and exponentials, and its log axes map
+# data to the page, with the C library's pow, log, log10 and exp, element by element.
+# NumPy's float64 loops for them differ from the C library in the last bits on CPUs with
+# AVX-512 (elsewhere NumPy calls the C library), and the residual |theta|/(c L^q) - 1 (about
+# 1e-6) and the PNG's antialiased pixels carry those bits into the files' bytes; so the
+# bytes depended on the machine.  The helpers give what np.power, np.log, np.geomspace and
+# matplotlib's base-10 log scale give where NumPy takes the C library.
+
+def _each(fn, values):
     import numpy as np
-    with mpmath.workdps(30):
-        la = [mpmath.log(mpmath.mpf(float(a))) for a in amp]
-        ll = [mpmath.log(mpmath.mpf(float(x))) for x in ls]
-        lo, hi = min(ll), max(ll)
-        lg = [lo + (hi - lo) * k / (points - 1) for k in range(points)]
-        curves, c = [], None
-        for q in exponents:
-            q = mpmath.mpf(q)
-            c = mpmath.fsum(a - q * x for a, x in zip(la, ll)) / len(la)
-            curves.append(np.array([float(mpmath.exp(c + q * x)) for x in lg]))
-        residual = np.array([float(mpmath.expm1(a - c - q * x)) for a, x in zip(la, ll)])
-        grid = np.array([float(mpmath.exp(x)) for x in lg])
-    return curves, grid, residual
+    v = np.asarray(values, dtype=float)
+    return np.array([fn(x) for x in v.ravel().tolist()]).reshape(v.shape)
+
+
+def _libm_power(x, p):
+    return _each(lambda v: v ** p, x)
+
+
+def _libm_log(x):
+    return _each(math.log, x)
+
+
+def _libm_geomspace(lo, hi, num):
+    """np.geomspace(lo, hi, num): 10 to the powers of a linspace of the log10, the ends exact."""
+    import numpy as np
+    grid = _each(lambda y: 10.0 ** y, np.linspace(math.log10(lo), math.log10(hi), num))
+    grid[0], grid[-1] = lo, hi
+    return grid
+
+
+def _libm_log_scale():
+    """matplotlib's base-10 log scale (its ticks, labels and limits) with a transform that
+    takes log10 (non-positive values clipped to -1000, as matplotlib does) and an inverse
+    that takes exp(y ln 10), both the C library's."""
+    from matplotlib.scale import InvertedLogTransform, LogScale, LogTransform
+    ln10 = math.log(10)
+
+    def log10(x):
+        return math.log10(x) if x > 0 else (-1000.0 if x == x else x)
+
+    class Inverse(InvertedLogTransform):
+        def transform_non_affine(self, values):
+            return _each(lambda y: math.exp(y * ln10), values)
+
+        def inverted(self):
+            return Forward(10)
+
+    class Forward(LogTransform):
+        def transform_non_affine(self, values):
+            return _each(log10, values)
+
+        def inverted(self):
+            return Inverse(10)
+
+    class Scale(LogScale):
+        def __init__(self):
+            super().__init__(base=10)
+            self._libm = Forward(10)
+
+        def get_transform(self):
+            return self._libm
+
+    return Scale()
 
 
 @collector_paused
@@ -451,25 +495,27 @@ def figure_envelope(doc, keep, length):
     tt, amp = vm.turning_points(keep["lin"])
     lfun, _ = vm.length_function(length, keep["values"])
     ls = np.array([lfun(t) for t in tt])
-    # the slope as motion.json gives it (7 digits), and every curve drawn from it in mpmath:
-    # NumPy's vectorised log, exp and power differ in the last bits between processors, and
-    # the residual panel magnifies those bits into the PDF's coordinates
-    slope = _g(keep["lin_fit"][0], 7)
+    slope = keep["lin_fit"][0]
     q = float(keep["exponent"])
-    power_law, grid, residual = _laws(amp, ls, (slope, q))
+    log, power = _libm_log, _libm_power
     with matplotlib.rc_context(_RC):
         fig, (ax, ax2) = plt.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1]})
         try:
-            power = f"L^({_unicode(keep['exponent'])})"
-            ax.loglog(ls, amp, "o", ms=3, mfc="none", color="C0",
-                      label="|θ| at the turning points (θ′ = 0), linear")
-            ax.loglog(grid, power_law[0], "-", color="C3", lw=1.0,
-                      label="least-squares fit: L^(" + f"{slope:.6f})".replace("-", "\u2212"))
-            ax.loglog(grid, power_law[1], "--", color="k", lw=0.8,
-                      label=f"E/ω = const: {power}")
-            ax2.semilogx(ls, residual, ".-", color="C0", ms=3, lw=0.6)
+            law = f"L^({_unicode(keep['exponent'])})"
+            ax.set_xscale(_libm_log_scale())  # ax2's too (shared)
+            ax.set_yscale(_libm_log_scale())
+            ax.plot(ls, amp, "o", ms=3, mfc="none", color="C0",
+                    label="|θ| at the turning points (θ′ = 0), linear")
+            c = math.exp(np.mean(log(amp) - slope * log(ls)))
+            grid = _libm_geomspace(ls.min(), ls.max(), 50)
+            ax.plot(grid, c * power(grid, slope), "-", color="C3", lw=1.0,
+                    label="least-squares fit: L^(" + f"{slope:.6f})".replace("-", "\u2212"))
+            c2 = math.exp(np.mean(log(amp) - q * log(ls)))
+            ax.plot(grid, c2 * power(grid, q), "--", color="k", lw=0.8,
+                    label=f"E/ω = const: {law}")
+            ax2.plot(ls, amp / (c2 * power(ls, q)) - 1, ".-", color="C0", ms=3, lw=0.6)
             ax2.ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
-            ax2.set_ylabel(f"|θ|/(c {power}) − 1")
+            ax2.set_ylabel(f"|θ|/(c {law}) − 1")
             for axis in (ax, ax2):
                 axis.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
                 axis.xaxis.set_minor_formatter(matplotlib.ticker.ScalarFormatter())
