@@ -57,11 +57,13 @@ def visible_width(tex):
     return len(re.sub(r"\s+", "", t))
 
 
-def fill(tokens, width=LINE_WIDTH):
-    """Greedy packing of ``tokens`` into lines whose visible width stays within ``width``."""
+def fill(tokens, width=LINE_WIDTH, measure=None, gap=2):
+    """Greedy packing of ``tokens`` into lines whose width stays within ``width``: each token
+    counts ``measure(token) + gap`` (``measure`` is :func:`visible_width` unless given)."""
+    measure = measure or visible_width
     lines, current, used = [], [], 0
     for tok in tokens:
-        w = visible_width(tok) + 2
+        w = measure(tok) + gap
         if current and used + w > width:
             lines.append(current)
             current, used = [], 0
@@ -299,17 +301,7 @@ def factor_tokens(raw, var=r"\nu"):
 
 def series_lines(tokens, width):
     """Greedy line filling: lists of tokens whose :func:`series_width` stays within ``width``."""
-    lines, cur, cur_w = [], [], 0
-    for tok in tokens:
-        w = series_width(tok) + 1
-        if cur and cur_w + w > width:
-            lines.append(cur)
-            cur, cur_w = [], 0
-        cur.append(tok)
-        cur_w += w
-    if cur:
-        lines.append(cur)
-    return lines
+    return fill(tokens, width, measure=series_width, gap=1)
 
 
 def ratfun_rows(name, raw):
