@@ -52,3 +52,29 @@ def band_kernel_cache(tmp_path_factory, monkeypatch):
     yield
     ckernel.clear_loaded()
     V._C_STATE.clear()
+
+
+def scipy_mathieu_limits(ratio, inertia_ratio):
+    """The limits of a/l from SciPy's characteristic values, an engine independent of
+    pendulab's: the lower limit solves a_0(q) = theta0, the upper b_1(q) = theta0
+    (scipy.special.mathieu_a(0, q), mathieu_b(1, q)), with theta0 = -4 (omega0/omega)^2 and
+    q = theta1 = 2 (a/l)/(I/(m l^2)) (000 eqs. 5-6 in tau = omega t/2), so a/l = q I/(2 m l^2).
+    SciPy's values are trusted only for q <= 3 (they fail at large q: scipy issues 4479, 14526);
+    beyond that this raises."""
+    from scipy.optimize import brentq
+    from scipy.special import mathieu_a, mathieu_b
+
+    theta0, q_max = -4.0 * ratio**2, 3.0
+    f_low = lambda q: mathieu_a(0, q) - theta0  # noqa: E731
+    f_up = lambda q: mathieu_b(1, q) - theta0  # noqa: E731
+    if f_low(q_max) > 0 or f_up(q_max) > 0:
+        raise ValueError(f"omega0/omega = {ratio} needs q > {q_max}, beyond SciPy's trusted range")
+    low = 0.0 if ratio == 0 else brentq(f_low, 0.0, q_max, xtol=1e-15, rtol=1e-14)
+    up = brentq(f_up, 0.0, q_max, xtol=1e-15, rtol=1e-14)
+    return low * inertia_ratio / 2, up * inertia_ratio / 2
+
+
+@pytest.fixture
+def scipy_limits():
+    """:func:`scipy_mathieu_limits`, the independent reference of the stability limits."""
+    return scipy_mathieu_limits

@@ -2,12 +2,11 @@
 
 import math
 import random
-import sys
 
 import pytest
 
 from pendulab.analyses import stability as st
-from pendulab.errors import InputError, PendulabError
+from pendulab.errors import InputError
 
 ROD, POINT = 4 / 3, 1.0
 
@@ -45,11 +44,11 @@ def test_point_mass_eq19_coincide():
 
 @pytest.mark.parametrize("rho", [0.0, 0.02, 0.1, 0.3, 0.6])
 @pytest.mark.parametrize("r", [POINT, ROD])
-def test_exact_against_scipy_characteristic_values(rho, r):
+def test_exact_against_scipy_characteristic_values(rho, r, scipy_limits):
     # Independent reference: scipy.special.mathieu_a(0, q) / mathieu_b(1, q) roots
     # at q <= 3, where SciPy is reliable.
     exact = st.limits(rho, r, "exact")
-    ref = st.reference_limits(rho, r)
+    ref = scipy_limits(rho, r)
     assert exact[0] == pytest.approx(ref[0], rel=1e-10, abs=1e-14)
     assert exact[1] == pytest.approx(ref[1], rel=1e-10)
 
@@ -108,9 +107,9 @@ def test_series_lower_limit_approaches_exact():
 
 
 @pytest.mark.parametrize("rho", [0.0, 0.1, 0.3])
-def test_integer_series_limits_approach_exact_on_both_sides(rho):
+def test_integer_series_limits_approach_exact_on_both_sides(rho, scipy_limits):
     """The a_0/b_1 series reach both exact limits (the non-integer one cannot reach the upper)."""
-    ref = st.reference_limits(rho, ROD)          # roots of SciPy's mathieu_a(0, q), mathieu_b(1, q)
+    ref = scipy_limits(rho, ROD)          # roots of SciPy's mathieu_a(0, q), mathieu_b(1, q)
     lo, up = st.limits(rho, ROD, "integer-series:40")
     assert lo == pytest.approx(ref[0], abs=1e-9) and up == pytest.approx(ref[1], rel=1e-9)
     coarse = st.limits(rho, ROD, "integer-series:4")
@@ -124,12 +123,6 @@ def test_integer_series_limit_beyond_the_radius_is_none():
     assert 2 * ref[0] > 1.4687686138 and 2 * ref[1] < 3.769957494
     lo, up = st.limits(0.9, 1, "integer-series:30")
     assert lo is None and up == pytest.approx(ref[1], rel=1e-4)    # Q = 3.31: slow, near the radius
-
-
-def test_missing_module_is_a_clear_error(monkeypatch):
-    monkeypatch.setitem(sys.modules, "pendulab.analyses.series", None)
-    with pytest.raises(PendulabError, match="needs pendulab.analyses.series"):
-        st.limits(0.1, ROD, "series:3")
 
 
 # -- comparison --------------------------------------------------------------------

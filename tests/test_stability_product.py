@@ -120,11 +120,11 @@ def test_cli_text_and_inertia_ratio(capsys):
     assert "upper: none" in out and "inertia_ratio: 1.5" in out and "ratio: 0.05" in out
 
 
-def test_cli_default_is_exact_for_a_rod(capsys):
+def test_cli_default_is_exact_for_a_rod(capsys, scipy_limits):
     assert main(["stability", "--ratio", "0.1", "--json"]) == 0
     record = json.loads(capsys.readouterr().out)
     assert record["method"] == "exact" and record["body"] == "rod"
-    assert record["lower"] == pytest.approx(st.reference_limits(0.1, 4 / 3)[0], rel=1e-10)
+    assert record["lower"] == pytest.approx(scipy_limits(0.1, 4 / 3)[0], rel=1e-10)
 
 
 @pytest.mark.parametrize("argv, fragment", [

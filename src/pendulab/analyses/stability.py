@@ -34,7 +34,7 @@ import functools
 import math
 import numbers
 
-from pendulab.errors import InputError, PendulabError
+from pendulab.errors import InputError
 from pendulab.limits import LIMITS, ascii_digits
 
 #: The fixed method names; "series:N" (MIN_SERIES_ORDER <= N <= MAX_SERIES_ORDER) is accepted too.
@@ -145,16 +145,8 @@ def formulas():
     }
 
 
-def _missing(method, where):
-    return PendulabError(f"method {method!r} needs {where}, which is not available "
-                         "in this installation yet")
-
-
 def _exact(ratio, inertia_ratio):
-    try:
-        from pendulab.analyses.floquet import stability_limits
-    except ImportError:
-        raise _missing("exact", "pendulab.analyses.floquet.stability_limits") from None
+    from pendulab.analyses.floquet import stability_limits
     lower, upper = stability_limits(ratio, inertia_ratio=inertia_ratio)
     return (None if lower is None else float(lower)), (None if upper is None else float(upper))
 
@@ -169,10 +161,7 @@ def _series_theta1(order, ratio):
     are read as the limits of a/l for I/(m l^2) = 2, where a/l = theta1 * 2/2
     is theta1 itself, bit for bit.
     """
-    try:
-        from pendulab.analyses.series import stability_interval_series
-    except ImportError:
-        raise _missing(f"series:{order}", "pendulab.analyses.series.stability_interval_series") from None
+    from pendulab.analyses.series import stability_interval_series
     return stability_interval_series(order, ratio, 2.0)
 
 
@@ -185,11 +174,7 @@ def _series(order, ratio, inertia_ratio):
 
 
 def _integer_series(order, ratio, inertia_ratio):
-    try:
-        from pendulab.analyses.series import stability_interval_integer_series
-    except ImportError:
-        raise _missing(f"integer-series:{order}",
-                       "pendulab.analyses.series.stability_interval_integer_series") from None
+    from pendulab.analyses.series import stability_interval_integer_series
     return stability_interval_integer_series(order, ratio, inertia_ratio, on_domain="omit")
 
 
@@ -199,9 +184,8 @@ def limits(ratio, inertia_ratio=1, method="exact"):
     ``ratio`` = omega0/omega >= 0, ``inertia_ratio`` = I/(m l^2) >= 1 (1 for a
     point mass, 4/3 for a rod), ``method`` one of :data:`METHODS`,
     "series:N" or "integer-series:N".  ``upper`` is None for eq19 and
-    eq19-corrected (the averaging gives no upper limit).  Raises :class:`~pendulab.errors.InputError` for bad
-    input and :class:`~pendulab.errors.PendulabError` when the method's module
-    is not installed.
+    eq19-corrected (the averaging gives no upper limit).  Raises
+    :class:`~pendulab.errors.InputError` for bad input.
     """
     problems = []
     for check, value in ((check_ratio, ratio), (check_inertia_ratio, inertia_ratio),
@@ -441,31 +425,6 @@ def comparison(ratios, inertia_ratio=1, methods=DEFAULT_METHODS, series_order=No
         raise InputError("; ".join(problems))
     table = {m: [list(limits(rho, r, m)) for rho in grid] for m in names}
     return ComparisonTable(inertia_ratio=r, w0_over_w=grid, methods=names, limits=table)
-
-
-def reference_limits(ratio, inertia_ratio=1):
-    """Exact limits from scipy's characteristic values (an independent cross-check).
-
-    The lower limit solves a_0(q) = theta0 and the upper b_1(q) = theta0 with
-    theta0 and a/l = q/(theta1/(a/l)) from the derivation (:func:`body_map`;
-    theta0 = -4 ratio^2, a/l = q inertia_ratio/2, 000 eqs. 5-6;
-    scipy.special.mathieu_a(0, q), mathieu_b(1, q)).  SciPy's characteristic
-    values are trusted only for q <= 3 here (they are known to fail at large
-    q, scipy issues 4479 and 14526); beyond that this raises.
-    """
-    from scipy.optimize import brentq
-    from scipy.special import mathieu_a, mathieu_b
-
-    rho, r = check_ratio(ratio), check_inertia_ratio(inertia_ratio)
-    theta0, scale = map_point(rho, r)
-    q_max = 3.0
-    f_low = lambda q: mathieu_a(0, q) - theta0  # noqa: E731
-    f_up = lambda q: mathieu_b(1, q) - theta0  # noqa: E731
-    if f_low(q_max) > 0 or f_up(q_max) > 0:
-        raise InputError(f"omega0/omega = {rho} needs q > {q_max}, beyond the range trusted here")
-    low = 0.0 if rho == 0 else brentq(f_low, 0.0, q_max, xtol=1e-15, rtol=1e-14)
-    up = brentq(f_up, 0.0, q_max, xtol=1e-15, rtol=1e-14)
-    return low * scale, up * scale
 
 
 # ---------------------------------------------------------------------------
