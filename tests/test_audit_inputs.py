@@ -177,7 +177,7 @@ def test_derive_names_its_options_not_scene_keys(capsys):
 def test_sweep_says_how_to_write_the_drive(capsys):
     line = _one_error(capsys, ["sweep", "--drive", "b*cos(omega*t)", "--grid", "2"])
     # the user wrote b, not l (l enters only through the groups b/l)
-    assert "leaves b without a value" in line and "amplitude with a" in line and "scene" not in line
+    assert "drive b*cos(omega*t) uses b:" in line and "amplitude with a" in line and "scene" not in line
 
 
 def test_work_refusals_suggest_only_what_would_change():

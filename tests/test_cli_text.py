@@ -38,7 +38,7 @@ def test_a_sweep_names_only_the_symbols_the_user_wrote(capsys):
     code = main(["sweep", "--drive", "a*cos(omega*t)+b*cos(2*omega*t)", "--grid", "2"])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1
-    assert "leaves b without a value" in err[0] and " l " not in err[0].split("leaves")[1][:12]
+    assert "uses b:" in err[0] and " l " not in err[0].split("uses")[1][:12]
 
 
 def test_stability_says_why_a_limit_is_missing_or_unresolved(capsys):

@@ -270,15 +270,26 @@ def test_a_hill_drive_prints_as_readable_text(capsys):
     ("a*cos(omega*t)+b*cos(2*omega*t)", "b"),             # l enters only through b/l
     ("a*cos(omega*t)+g*cos(2*omega*t)", "g"),             # the groups turn g into omega
     ("a*cos(omega*t)+b*cos(2*omega*t)+l*cos(3*omega*t)", "b, l"),  # l written by the user
+    ("a*cos(omega*x)", "x"),                              # constant in t: drops out, still named
+    ("a*cos(omega*t)+b", "b"),                            # a constant term: the same
+    ("a*cos(omega*t)+I*a", "I"),                          # I is the moment of inertia, not sqrt(-1)
 ])
 def test_a_drive_names_only_the_users_free_symbols(argv, drive, named, capsys):
     line = _one_error(capsys, argv + ["--drive", drive])
-    assert f"the drive leaves {named} without a value:" in line
+    assert f"the drive {drive} uses {named}:" in line
     assert "a drive may use only t, a and omega" in line
     # the message is the command's, not a sweep's, and names no symbol the user did not write
     assert "sweep" not in line and "a_over_l" not in line
     if "l*cos" not in drive:
-        assert ", l " not in line and " l without" not in line
+        assert ", l" not in line and " l:" not in line
+
+
+@pytest.mark.parametrize("drive", ["a*t**2", "a*cos(2*pi*t)", "0"])
+def test_a_drive_without_omega_is_refused_for_that(drive, capsys):
+    # the runs set omega0/omega and measure time in tau = omega t/2: a drive must have omega
+    line = _one_error(capsys, ["simulate", "--a-over-l", "0.1", "--w0-over-w", "0.1",
+                               "--drive", drive])
+    assert f"the drive {drive} has no omega" in line and "without a value" not in line
 
 
 # ---------------------------------------------------------------------------

@@ -63,7 +63,7 @@ def test_the_drives_differ_and_the_text_names_the_drive(capsys):
 
 @pytest.mark.parametrize("drive, fragment", [
     ("a*cos(", "--drive: cannot parse"),
-    ("b*cos(omega*t)", "leaves b without a value"),
+    ("b*cos(omega*t)", "the drive b*cos(omega*t) uses b:"),
 ])
 def test_a_bad_drive_is_one_line(drive, fragment, capsys):
     code = main(["simulate", "--a-over-l", "0.2", "--w0-over-w", "0.05", "--drive", drive])

@@ -126,6 +126,11 @@ def _stages(spec):
     return _STAGES[spec]
 
 
+#: The symbols a drive of a sweep, simulation or animation may use: the time, the amplitude and
+#: the frequency (the runs set a/l and omega0/omega, nothing else).
+DRIVE_SYMBOLS = ("t", "a", "omega")
+
+
 def _derive(spec):
     from pendulab.equations import derive
     from pendulab.exprs import parse
@@ -135,6 +140,18 @@ def _derive(spec):
     kwargs = {"body": spec.body, "angle": spec.angle}
     if spec.drive is not None:
         kwargs["drive"] = parse(spec.drive)
+        # a symbol a run cannot set is refused even where it drops out of the equation (in a
+        # constant term, or in cos(omega*x), constant in t): it is what the user wrote
+        other = sorted({s.name for s in kwargs["drive"].free_symbols} - set(DRIVE_SYMBOLS))
+        if other:
+            raise InputError(f"the drive {spec.drive} uses {', '.join(other)}: a drive may use "
+                             "only t, a and omega (write the drive's amplitude with a and its "
+                             "frequency with omega, and a number for any other factor, as in "
+                             "a*cos(omega*t) + a/2*cos(2*omega*t))")
+        if "omega" not in {s.name for s in kwargs["drive"].free_symbols}:
+            raise InputError(f"the drive {spec.drive} has no omega: write its frequency with "
+                             "omega, as in a*cos(omega*t) (the runs set omega0/omega, and tau = "
+                             "omega t/2 needs the drive's omega)")
     if spec.inertia is not None:
         kwargs["inertia_value"] = parse(spec.inertia)
     eqs = derive(DrivenPivot(**kwargs))
