@@ -50,6 +50,7 @@ from flint import acb, arb, ctx, fmpq, fmpz
 
 from pendulab.analyses.bessel_zeros import _Prec, ball_digits  # the one flint precision guard
 from pendulab.analyses.floquet._bands import FAMILIES, _edge_index, _tail_steps
+from pendulab.errors import ConvergenceError
 
 
 def bits_of(digits):
@@ -122,8 +123,12 @@ def family_count(family, q, x):
         if i >= 1 and p > aq and _diag(family, i + 1, 0) - x > 2 * aq:
             return count
         i += 1
-        if i > 10 ** 6:  # pragma: no cover - unreachable for finite input
-            return None
+        if i > 10 ** 6:
+            # theta0 and theta1 within their ranges stop the count within a few thousand rows;
+            # a count that runs on has lost its pivots (an undecided one taken as decided),
+            # which is an error, not an undecided count
+            raise ConvergenceError(f"the Sturm count of the {family} matrix at q = {q} did not "
+                                   "stop within 10^6 rows")
 
 
 def band_count(x0, x1):
