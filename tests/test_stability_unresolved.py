@@ -9,6 +9,7 @@ and q = theta1 = 2 (a/l)/(I/(m l^2)) = (3/2) a/l for the rod (I/(m l^2) = 4/3).
 """
 
 import json
+import math
 
 import mpmath
 import pytest
@@ -154,3 +155,21 @@ def test_the_reasons_name_what_failed(capsys):
     assert "does not reach theta0 = -4" in rec["why"]["lower"]
     rec = _json(capsys, "--ratio", "0.1", "--method", "eq19")
     assert rec["why"] == {"upper": "the averaging gives only a lower limit (000 eq. 19)"}
+
+
+def test_a_closed_form_whose_two_limits_meet_says_so(capsys):
+    # eq. 28 (000): sqrt(2) r rho < a/l < sqrt(2) r (1/4 + rho^2); the two sides meet at
+    # rho = 1/2 (rho = 1/4 + rho^2), where the band is one point, not two limits
+    from pendulab.cli import main
+    r = 4 / 3
+    assert main(["stability", "--method", "eq28", "--ratio", "0.5", "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert record["lower"] == pytest.approx(math.sqrt(2) * r * 0.5, rel=1e-15)
+    assert "limits meet at this ratio" in record["note"]
+    # beside it the band is open again and nothing is said
+    for rho in ("0.45", "0.55"):
+        assert main(["stability", "--method", "eq28", "--ratio", rho, "--json"]) == 0
+        record = json.loads(capsys.readouterr().out)
+        width = math.sqrt(2) * r * (0.25 + float(rho) ** 2 - float(rho))
+        assert record["upper"] - record["lower"] == pytest.approx(width, rel=1e-9)
+        assert "note" not in record

@@ -372,6 +372,12 @@ def report(ratio, inertia_ratio=1, method="exact", exact_ratio=None, exact_inert
         return out
     out["why"] = _none_reasons(method, check_ratio(ratio), check_inertia_ratio(inertia_ratio),
                                lower, upper)
+    if (lower is not None and upper is not None
+            and abs(upper - lower) <= 4 * math.ulp(max(abs(lower), abs(upper)))):
+        # a closed form's two curves that meet (eq. 28 at omega0/omega = 1/2): not two limits
+        out["closes"] = (f"the method's lower and upper limits meet at this ratio (they agree "
+                         f"within rounding, at a/l = {lower!r}): its stable band is empty or "
+                         "a single point here")
     return out
 
 

@@ -107,7 +107,8 @@ def _note(found):
     why = found["why"]
     if "band" in found:  # one reason for both: the band is narrower than a double resolves
         return f"lower and upper none: {why['lower']}"
-    return "; ".join(f"{name} none: {why[name]}" for name in ("lower", "upper") if name in why)
+    said = [f"{name} none: {why[name]}" for name in ("lower", "upper") if name in why]
+    return "; ".join(said + ([found["closes"]] if "closes" in found else []))
 
 
 def plot_ratios(ratio):
