@@ -69,3 +69,21 @@ def test_a_bad_drive_is_one_line(drive, fragment, capsys):
     code = main(["simulate", "--a-over-l", "0.2", "--w0-over-w", "0.05", "--drive", drive])
     out, err = capsys.readouterr()
     assert code == 2 and out == "" and err.count("\n") == 1 and fragment in err
+
+
+def test_a_drive_of_another_fundamental_says_whose_periods_are_run(capsys):
+    # a*cos(3 omega t) has the fundamental Omega = 3 omega: tau = Omega t/2, and at
+    # omega0/omega = 0.3 it is the source's drive at omega0/Omega = 0.1 (000 eqs. 5-6 with
+    # Omega for omega), the same trajectory in the same tau
+    base = ["simulate", "--a-over-l", "0.2", "--theta-init", "0.06", "--omega-init", "0.01",
+            "--periods", "3", "--json"]
+    assert main(base + ["--w0-over-w", "0.3", "--drive", "a*cos(3*omega*t)"]) == 0
+    tripled = json.loads(capsys.readouterr().out)
+    assert tripled["drive_fundamental"] == "3*omega"
+    assert main(base + ["--w0-over-w", "0.1"]) == 0
+    source = json.loads(capsys.readouterr().out)
+    assert "drive_fundamental" not in source
+    assert tripled["theta"] == pytest.approx(source["theta"], rel=1e-12, abs=1e-15)
+    assert main(base[:-1] + ["--w0-over-w", "0.3", "--drive", "a*cos(3*omega*t)"]) == 0
+    text = capsys.readouterr().out
+    assert "those of its fundamental Omega = 3*omega" in text

@@ -104,6 +104,11 @@ def run(args):
               "mean_theta": run["mean_theta"], "mean_abs_theta": run["mean_abs_theta"],
               "max_abs_theta": run["max_abs_theta"],
               "tau": tau.tolist(), "theta": states[:, 0].tolist(), "dtheta": states[:, 1].tolist()}
+    fundamental = None
+    if system.drive is not None:
+        # time is tau = Omega t/2 in the drive's own fundamental Omega (a period is pi in tau)
+        fundamental = str(S.stages(system)[1].frequency)
+        record["drive_fundamental"] = fundamental
     if said:
         record["step_warning"] = said[0]
     if args.reference:
@@ -123,7 +128,10 @@ def run(args):
         buf.write(f"body {record['body']}, a/l = {a!r}, omega0/omega = {w!r}, theta(0) = {th!r}, "
                   f"theta'(0) = {om!r}, {periods} periods x {steps} steps ({run['backend']})\n")
         if system.drive is not None:
-            buf.write(f"drive y0(t) = {system.drive}\n")
+            note = ("" if fundamental == "omega" else
+                    f"; the periods and tau = Omega t/2 are those of its fundamental "
+                    f"Omega = {fundamental}")
+            buf.write(f"drive y0(t) = {system.drive}{note}\n")
         buf.write(f"mean theta = {run['mean_theta']!r}, mean |theta| = {run['mean_abs_theta']!r}, "
                   f"max |theta| = {run['max_abs_theta']!r}\n")
         if args.reference:
