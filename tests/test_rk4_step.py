@@ -261,3 +261,21 @@ def test_a_system_not_of_the_pendulum_shape_is_refused():
     with pytest.raises(InputError, match="needs theta''"):
         SC.check_step(cubic, 0.01, [[0.1, 0.05]])
     assert sp.diff(fos.rhs[1], DTHETA) == 0
+
+
+@pytest.mark.parametrize("drive, words", [
+    # a harmonic far beyond any step: refused at once, before a grid of its cycles is built
+    ("a*cos(omega*t)+a*cos(10**60*omega*t)", "turns 1e+60 times per drive period"),
+    # a coefficient beyond double precision: one line, not an OverflowError
+    ("1e308*a*cos(omega*t)", "too large for double precision"),
+])
+@pytest.mark.parametrize("command", [
+    ["simulate", "--a-over-l", "0.3", "--w0-over-w", "0.1", "--periods", "5"],
+    ["sweep", "--grid", "2", "--periods", "1"],
+])
+def test_a_drive_the_step_check_cannot_take_is_one_line(command, drive, words, capsys):
+    from pendulab.cli import main
+    assert main(command + ["--drive", drive]) == 2
+    out, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert out == "" and len(lines) == 1 and words in lines[0], err

@@ -172,6 +172,11 @@ def coefficient(fos):
     return made
 
 
+#: Cycles of the highest harmonic per drive period beyond which an aliased step is refused
+#: before the grid of q is built (a drive such as cos(10**60*omega*t)).
+HUGE_CYCLES = 1e4
+
+
 def check_step(fos, dt, params):
     """Check the RK4 step ``dt`` (in tau) of ``fos`` at the parameter rows ``params`` (n, k).
 
@@ -183,9 +188,28 @@ def check_step(fos, dt, params):
     params = np.atleast_2d(np.asarray(params, float))
     n = params.shape[0]
     period = float(fos.period) if fos.period is not None else 2 * math.pi / max(r_max, 1.0)
-    points = GRID_PER_CYCLE * max(1, round(r_max * period / (2 * math.pi)))
+    cycles = r_max * period / (2 * math.pi)   # of the highest harmonic in one drive period
+    steps = period / dt
+    if not math.isfinite(cycles) or (cycles > HUGE_CYCLES and cycles >= steps):
+        # RK4's stages sample that harmonic below the Nyquist rate (the rule below), said
+        # before a grid of GRID_PER_CYCLE points per cycle is built that would not fit in memory
+        raise InputError(f"the drive's highest harmonic turns {cycles:.6g} times per drive "
+                         f"period, and {steps:.6g} RK4 steps per period sample it below the "
+                         f"Nyquist rate; ask for more than {cycles:.6g} steps per period, or "
+                         "drop that harmonic")
+    points = GRID_PER_CYCLE * max(1, round(cycles))
     grid = np.arange(points) * (period / points)
     maxq = np.empty(n)
+    try:
+        return _checked(fos, dt, params, q, amplitudes, period, points, grid, maxq, n)
+    except (OverflowError, ValueError):
+        raise InputError("the drive's coefficient q(tau) of the linearised equation is too "
+                         "large for double precision here: the RK4 step cannot be checked "
+                         "(a smaller amplitude or frequency)") from None
+
+
+def _checked(fos, dt, params, q, amplitudes, period, points, grid, maxq, n):
+    import numpy as np
     with np.errstate(all="ignore"):
         for s in range(0, n, CHUNK):
             cols = [params[s:s + CHUNK, j:j + 1] for j in range(params.shape[1])]
