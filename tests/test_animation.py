@@ -280,3 +280,23 @@ def test_a_string_scene_names_the_numbers_its_length_lacks(tmp_path, capsys):
     assert main(["build", str(scene), "--out", str(tmp_path / "out")]) == 0
     assert (tmp_path / "out" / "vl" / "animation.gif").stat().st_size > 0
     capsys.readouterr()
+
+
+@pytest.mark.parametrize("argv, words", [
+    # L(t) = L0 e^(-t) falls to L0/10^6 at t = 6 ln 10 = 13.8155 s: refused before integrating
+    (["--length", "L0*exp(-t)", "--t-end", "20"], "falls to 1e-06 L(0) at t = 13.8155"),
+    # L0 e^(-t/2) stays above L0/10^6 up to 27 s, but its swing quickens as sqrt(g/L(t)):
+    # the integral of sqrt(g/L)/(2 pi) is 4 sqrt(g/L0) (e^(27/4) - 1)/(2 pi) = 5430 swings at
+    # g = 100, past the 2000 DOP853 integrates in about a minute (frames: 172, within theirs)
+    (["--length", "L0*exp(-t/2)", "--g", "100", "--t-end", "27", "--frames-per-period", "4"],
+     "is about 5.43e+03 oscillations of the string"),
+])
+def test_a_string_too_costly_to_integrate_is_refused_before_any_work(argv, words, tmp_path,
+                                                                     capsys):
+    import time
+    start = time.monotonic()
+    code = main(["animate", "variable-length", *argv, "--out", str(tmp_path / "s.gif"),
+                 "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and words in err[0], err
+    assert time.monotonic() - start < 20 and not (tmp_path / "s.gif").exists()

@@ -165,6 +165,17 @@ def string_frames(equations, values, theta_0, t_end, frames_per_period=16):
     if n < 2:
         raise InputError(f"t_end = {t_end:g} s is shorter than one frame ({period / frames_per_period:.3g} s)")
     times = np.arange(n) * (period / frames_per_period)
+    # before anything is integrated: a string that reaches zero, a pole or L(0)/10^6 within
+    # t_end, and more oscillations than DOP853 integrates in about a minute (the swings,
+    # counted along L(t) as it changes, and a periodic L(t)'s own periods)
+    vm.length_check(length, values, t_end, t_end=t_end)
+    swings = _oscillations(lfun, g, t_end)
+    if fos.period is not None:
+        swings = max(swings, t_end / float(vm.substitute(fos.period, values)))
+    if not swings <= limits.MOTION_MAX_PERIODS:
+        raise InputError(f"t_end = {t_end:g} s is about {swings:.3g} oscillations of the string "
+                         f"(of its swing sqrt(g/L(t)), or of L(t) itself); at most "
+                         f"{limits.MOTION_MAX_PERIODS}: ask for a shorter t_end")
     traj = vm.integrate(fos, length, values, t_end, theta_0, t_eval=times)
     geometry = length_geometry(equations)
     missing = [s.name for s in geometry.params if s.name not in values]
@@ -179,6 +190,15 @@ def string_frames(equations, values, theta_0, t_end, frames_per_period=16):
     import sympy as sp
     title = rf"$L(t) = {sp.latex(length)}$, $\theta(0) = {_tex(theta_0)}$"
     return Frames(t, theta, pivot, mass, "string", frames_per_period, period, title)
+
+
+def _oscillations(lfun, g, t_end, points=4001):
+    """Swings of a string of length ``lfun(t)`` up to ``t_end``: the integral of
+    sqrt(g/L(t))/(2 pi) by the trapezoid rule on ``points`` times (L > 0 there: checked
+    before by the length check)."""
+    step = t_end / (points - 1)
+    rate = [math.sqrt(g / float(lfun(k * step))) for k in range(points)]
+    return step * (sum(rate) - (rate[0] + rate[-1]) / 2) / (2 * math.pi)
 
 
 def _tex(x):
