@@ -1,0 +1,148 @@
+"""Tests that kill the surviving mutants of the ball-arithmetic modules (docs/mutation.md).
+
+Each test closes a gap that mutation testing found in pendulab.analyses.floquet._arb,
+pendulab.analyses.floquet._exponent or pendulab.analyses.mathieu_branch: an edit of a proof
+step or of a documented result that no other test noticed.
+
+References, independent of the code under test:
+* theta1 = 0 is the free oscillator theta'' + theta0 theta = 0, solved by exp(+-i sqrt(theta0) tau):
+  lam = sqrt(theta0) (imaginary for theta0 < 0), multipliers exp(+-i pi lam); theta0 = 0 has
+  the solution tau, unbounded (unstable), and theta0 = k^2 > 0 has cos k tau, sin k tau, bounded
+  (FloquetResult's docstring states the same convention); computed here with plain mpmath;
+* a_0(1) by mpmath.eigsy on the 60-row DLMF 28.4.5 matrix (far past where a_0 moves);
+* exact binary arithmetic for the rounding of a ball to a double.
+"""
+
+from fractions import Fraction
+
+import mpmath
+import pytest
+from flint import arb, ctx
+
+from pendulab.analyses.floquet import _arb, characteristic_exponent
+
+
+@pytest.fixture(autouse=True)
+def _flint_precision():
+    saved = ctx.prec
+    yield
+    ctx.prec = saved
+
+
+# -- is_tiny: the bound of the "on a curve" verdict of the ball route -------------------------
+
+def test_is_tiny_reads_the_upper_end_of_a_ball_and_includes_its_bound():
+    """|u| <= 10^-digits for every point of the ball: a ball [-10^-60, 10^-60] (about) is not
+    below 10^-61 though its lower end of |u| is 0, and is below 10^-59; u = 1 is within
+    10^-0 (the bound is included); no estimate at all is not tiny."""
+    ctx.prec = 300
+    b = arb(10) ** -70 + arb(0, 1) * arb(10) ** -60
+    assert _arb.is_tiny(b, 61) is False
+    assert _arb.is_tiny(b, 59) is True
+    assert _arb.is_tiny(1.0, 0) is True
+    assert _arb.is_tiny(1.5, 0) is False
+    assert _arb.is_tiny(None, 5) is False
+
+
+# -- nearest_double: a radius that is a power of two ------------------------------------------
+
+def test_nearest_double_of_a_ball_whose_radius_is_a_power_of_two():
+    """Radius exactly 2^-60 (mantissa 1) around 1 and around 3/2: both ends lie within half
+    an ulp (2^-53) of the centre, so the centre is the proved double; a radius 2^-50 (more than
+    half an ulp) proves none."""
+    ctx.prec = 200
+    assert _arb.nearest_double(arb(1, 2.0 ** -60)) == 1.0
+    assert _arb.nearest_double(arb(1.5, 2.0 ** -60)) == 1.5
+    assert _arb.nearest_double(arb(1.5, 2.0 ** -50)) is None
+
+
+def _a0_of_q1(n=60):
+    """a_0(1): lowest eigenvalue of the n-row DLMF 28.4.5 matrix (diagonal (2i)^2, off-diagonal
+    q, the first one q sqrt 2 after symmetrising) by mpmath.eigsy at the current precision."""
+    A = mpmath.zeros(n)
+    for i in range(n):
+        A[i, i] = (2 * i) ** 2
+        if i:
+            A[i, i - 1] = A[i - 1, i] = mpmath.sqrt(2) if i == 1 else 1
+    return min(mpmath.eigsy(A, eigvals_only=True))
+
+
+# -- char_value_at: no text, no answer --------------------------------------------------------
+
+def test_char_value_at_returns_nothing_when_its_ball_does_not_prove_the_digits_asked():
+    """a_0(1) at 20 working digits gives a ball about 10^-20 wide: 15 digits are proved (the
+    eigensolver's value), 60 are not, and then no (text, ball) pair is returned at all."""
+    ctx.prec = 200
+    got = _arb.char_value_at("a_even", 0, Fraction(1), 15, 20)
+    assert got is not None
+    with mpmath.workdps(50):
+        assert got[0] == mpmath.nstr(_a0_of_q1(), 15)
+    assert _arb.char_value_at("a_even", 0, Fraction(1), 60, 20) is None
+
+
+# -- theta1 = 0: the free oscillator ----------------------------------------------------------
+
+@pytest.mark.parametrize("method", ["arb", "cf"])
+@pytest.mark.parametrize("dps", [None, 30])
+def test_free_exponent_below_zero_is_imaginary_with_real_multipliers(method, dps):
+    """theta0 = -2: lam = i sqrt 2, multipliers exp(-+pi sqrt 2), unstable, not on a curve,
+    band edge 0 (the integer nearest Re lam = 0), no truncation; the fields method and dps
+    are those asked, the working precision at least dps."""
+    r = characteristic_exponent("-2", "0", dps=dps, method=method)
+    with mpmath.workdps(50):
+        s = mpmath.sqrt(2)
+        tol = mpmath.mpf(10) ** -(29 if dps else 15)
+        assert mpmath.re(r.lam) == 0
+        assert abs(mpmath.im(r.lam) - s) < tol
+        up, down = r.multipliers
+        assert abs(up - mpmath.exp(-mpmath.pi * s)) < tol
+        assert abs(down - mpmath.exp(mpmath.pi * s)) < tol * 100
+        assert mpmath.im(up) == 0 and mpmath.im(down) == 0
+    assert not r.stable and not r.on_boundary
+    assert r.band_edge == 0 and r.depth == 0
+    assert r.method == method and r.dps == dps
+    assert r.working_dps >= (dps or 15)
+
+
+def test_free_exponent_verdicts_at_zero_at_squares_and_between():
+    """theta0 = 0: the solution tau grows, unstable, on the curve a_0 = 0; theta0 = 1/2:
+    stable, lam = sqrt(1/2) (band edge 1); theta0 = 8: band edge 3 (sqrt 8 = 2.83);
+    theta0 = 9: on the curve and stable (cos 3 tau, sin 3 tau)."""
+    r = characteristic_exponent("0", "0", dps=30)
+    assert r.lam == 0 and not r.stable and r.on_boundary
+    r = characteristic_exponent("1/2", "0", dps=30)
+    assert r.stable and not r.on_boundary and r.band_edge == 1
+    with mpmath.workdps(40):
+        assert abs(r.lam - mpmath.sqrt(mpmath.mpf(1) / 2)) < mpmath.mpf(10) ** -29
+    r = characteristic_exponent("8", "0", dps=30)
+    assert r.band_edge == 3 and r.stable
+    r = characteristic_exponent("9", "0", dps=30)
+    assert r.on_boundary and r.stable and r.band_edge == 3
+
+
+@pytest.mark.parametrize("method", ["cf", "hill"])
+def test_free_exponent_by_an_mpmath_route_claims_no_certified_digits(method):
+    """Only method "arb" proves digits; with theta1 = 0 the mpmath routes report none."""
+    assert characteristic_exponent("2", "0", dps=30, method=method).certified_digits is None
+    assert characteristic_exponent("2", "0", dps=30, method="arb").certified_digits == 30
+
+
+# -- the radii table: writing it ----------------------------------------------------------------
+
+def test_radii_table_is_written_whole_and_then_checks_up_to_date(monkeypatch, tmp_path, capsys):
+    """`python -m pendulab.analyses.mathieu_branch` (no --check) writes the fresh text to
+    mathieu_radii.py beside the module, through a temporary file that does not stay; --check
+    then says up to date (exit 0), and a changed fresh text differs (exit 1)."""
+    from pendulab.analyses import mathieu_branch as mb
+    monkeypatch.setattr(mb, "__file__", str(tmp_path / "mathieu_branch.py"))
+    monkeypatch.setattr(mb, "table_source", lambda: "RADII = 1\n")
+    assert mb._main([]) == 0
+    assert (tmp_path / "mathieu_radii.py").read_text() == "RADII = 1\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mathieu_radii.py"]
+    assert capsys.readouterr().out == "wrote mathieu_radii.py\n"
+    assert mb._main(["--check"]) == 0
+    assert capsys.readouterr().out == "mathieu_radii.py: up to date\n"
+    monkeypatch.setattr(mb, "table_source", lambda: "RADII = 2\n")
+    assert mb._main(["--check"]) == 1
+    assert capsys.readouterr().out == "mathieu_radii.py: differs from a fresh computation\n"
+    assert (tmp_path / "mathieu_radii.py").read_text() == "RADII = 1\n"
