@@ -13,6 +13,7 @@ References, independent of the code under test:
 * exact binary arithmetic for the rounding of a ball to a double.
 """
 
+import functools
 from fractions import Fraction
 
 import mpmath
@@ -146,3 +147,84 @@ def test_radii_table_is_written_whole_and_then_checks_up_to_date(monkeypatch, tm
     assert mb._main(["--check"]) == 1
     assert capsys.readouterr().out == "mathieu_radii.py: differs from a fresh computation\n"
     assert (tmp_path / "mathieu_radii.py").read_text() == "RADII = 1\n"
+
+
+# -- nearest_double: exact ends for every exponent ----------------------------------------------
+
+def test_nearest_double_forms_the_ends_exactly_at_every_exponent():
+    """Integers 24 (3 * 2^3) and 4 (exponent >= 0) are their own doubles; 2^-900 (1 + 2^-200)
+    rounds to 2^-900 although its lowest bit, 2^-1100, is below the smallest double; a ball
+    about 1 + 2^-60 whose radius 2^-40 is coarser than its midpoint's last bit holds 1 - 2^-41
+    and 1 + 2^-41, different doubles: none is proved."""
+    ctx.prec = 300
+    assert _arb.nearest_double(arb(24)) == 24.0
+    assert _arb.nearest_double(arb(4)) == 4.0
+    assert _arb.nearest_double(arb(2) ** -900 + arb(2) ** -1100) == 2.0 ** -900
+    wide = arb(1) + arb(2) ** -60 + arb(0, 1) * arb(2) ** -40
+    assert _arb.nearest_double(wide) is None
+
+
+def test_lam_text_of_an_exact_zero_is_zero():
+    ctx.prec = 200
+    assert _arb.lam_text(arb(0), 10) == "0"
+
+
+# -- the sign-change proof: the bracket stays below u = 1, and an end without a ball refuses ----
+
+X0, X1 = Fraction(-2, 1000), Fraction(2, 10)     # band 0, lam = 0.1352 (tests/test_certs_arb.py)
+
+
+@functools.lru_cache(maxsize=None)
+def _lam_band0():
+    """lam of (X0, X1) from the monodromy trace over [0, pi] (mpmath.odefun): 2 cos(pi lam)."""
+    with mpmath.workdps(40):
+        a, b = mpmath.mpf(X0.numerator) / X0.denominator, mpmath.mpf(X1.numerator) / X1.denominator
+
+        def rhs(t, y):
+            return [y[1], -(a + 2 * b * mpmath.cos(2 * t)) * y[0]]
+        trace = (mpmath.odefun(rhs, 0, [1, 0])(mpmath.pi)[0]
+                 + mpmath.odefun(rhs, 0, [0, 1])(mpmath.pi)[1])
+        return mpmath.acos(trace / 2) / mpmath.pi
+
+
+def _prove(um, e):
+    prec = _arb.bits_of(30) + _arb.loss_bits(float(X0), float(X1))
+    with _arb._Prec(prec + 16):
+        return _arb._prove(X0, X1, 1, e, True, arb(um), arb("1e-40"), arb("1e-40"), prec,
+                           float(X0), float(X1), arb(1000))
+
+
+def test_sign_change_refuses_the_root_of_f_past_u_one():
+    """Band 0, edge 1: f_1 has the root u = (1 - lam)^2 = 0.748 (lam = 1 - sqrt u = 0.1352)
+    and also u = (1 + lam)^2 = 1.289, the same exponent shifted by 2, which read as
+    lam = 1 - sqrt u gives -0.1352, outside the band.  A candidate at the second root is
+    refused (no bracket reaches u >= 1); the first one is proved and holds the monodromy
+    value."""
+    ctx.prec = 200
+    lam = _lam_band0()
+    with mpmath.workdps(40):
+        near, far = (mpmath.nstr(v, 40) for v in ((1 - lam) ** 2, (1 + lam) ** 2))
+        ref = arb(mpmath.nstr(lam, 38))
+    assert _prove(far, 1) is None
+    got = _prove(near, 1)
+    assert got is not None and got[0].contains(ref)
+
+
+@pytest.mark.parametrize("end", ["lo", "hi"])
+def test_sign_change_refuses_a_bracket_with_one_end_unproved(monkeypatch, end):
+    """f at one end of the bracket without a ball (its tail condition not shown): no lam, and
+    no error -- the other end's sign alone proves nothing."""
+    ctx.prec = 200
+    lam = _lam_band0()
+    with mpmath.workdps(40):
+        um = mpmath.nstr(lam ** 2, 40)
+    assert _prove(um, 0) is not None
+    real = _arb._value_ball
+    centre = arb(um)
+
+    def one_end(u, *args):
+        if (u > centre) == (end == "hi"):
+            return None
+        return real(u, *args)
+    monkeypatch.setattr(_arb, "_value_ball", one_end)
+    assert _prove(um, 0) is None
