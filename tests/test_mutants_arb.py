@@ -154,13 +154,13 @@ def test_radii_table_is_written_whole_and_then_checks_up_to_date(monkeypatch, tm
 def test_nearest_double_forms_the_ends_exactly_at_every_exponent():
     """Integers 24 (3 * 2^3) and 4 (exponent >= 0) are their own doubles; 2^-900 (1 + 2^-200)
     rounds to 2^-900 although its lowest bit, 2^-1100, is below the smallest double; a ball
-    about 1 + 2^-60 whose radius 2^-40 is coarser than its midpoint's last bit holds 1 - 2^-41
-    and 1 + 2^-41, different doubles: none is proved."""
+    about 1 + 2^-100 whose radius, about 2^-43, ends in a bit coarser than its midpoint's last
+    bit holds 1 - 2^-44 and 1 + 2^-44, different doubles: none is proved."""
     ctx.prec = 300
     assert _arb.nearest_double(arb(24)) == 24.0
     assert _arb.nearest_double(arb(4)) == 4.0
     assert _arb.nearest_double(arb(2) ** -900 + arb(2) ** -1100) == 2.0 ** -900
-    wide = arb(1) + arb(2) ** -60 + arb(0, 1) * arb(2) ** -40
+    wide = arb(1) + arb(2) ** -100 + arb(0, 1) * arb(2) ** -43
     assert _arb.nearest_double(wide) is None
 
 
