@@ -228,3 +228,18 @@ def test_sign_change_refuses_a_bracket_with_one_end_unproved(monkeypatch, end):
         return real(u, *args)
     monkeypatch.setattr(_arb, "_value_ball", one_end)
     assert _prove(um, 0) is None
+
+
+@pytest.mark.parametrize("offset", ["-1e-12", "1e-12"])
+def test_sign_change_refuses_a_bracket_beside_the_root_where_f_is_small(offset):
+    """A candidate 10^-12 below (or above) the root u = lam^2 of f_0: the bracket, at most
+    2^50 10^-40 wide, lies on one side and f has one sign at both ends, smaller than 1 in
+    size there (f'(u) 10^-12); a rule that took "small" for "of the other sign" would prove
+    it.  Refused; the root itself is proved."""
+    ctx.prec = 200
+    lam = _lam_band0()
+    with mpmath.workdps(40):
+        um = mpmath.nstr(lam ** 2 + mpmath.mpf(offset), 40)
+        root = mpmath.nstr(lam ** 2, 40)
+    assert _prove(um, 0) is None
+    assert _prove(root, 0) is not None
