@@ -243,3 +243,41 @@ def test_sign_change_refuses_a_bracket_beside_the_root_where_f_is_small(offset):
         root = mpmath.nstr(lam ** 2, 40)
     assert _prove(um, 0) is None
     assert _prove(root, 0) is not None
+
+
+# -- the tail condition with theta0 != 0, a large imaginary t, and a ball of u ------------------
+
+def _point(x):
+    return _arb.to_ball(Fraction(x))
+
+
+@pytest.mark.parametrize("u,threshold", [
+    ("1/100", Fraction(1221, 200)),  # u > 0, t = 0.1: (4 - t)^2 - theta0 = 12.21 = 2|theta1|
+    ("-1", Fraction(6)),             # u < 0, s = 1: 4^2 - theta0 - s^2 = 12 = 2|theta1|
+])
+def test_tail_condition_with_theta0_three_refuses_five_percent_past_its_bound(u, threshold):
+    """theta0 = 3, j = 4: C_j = theta0 - (j + t)^2 on both sides; the bound on |theta1| moves
+    down by theta0 (and by s^2 = -u for u < 0, where the second rule, j^2 s^2 > theta1^2,
+    needs |theta1| < 4, below the first).  5 % past it is refused, 5 % inside accepted; a
+    rule that added theta0 or s^2 instead would accept both."""
+    ctx.prec = 200
+    U, x0 = _point(u), _point(3)
+    for sign in (1, -1):
+        assert not _arb._tail_ok(4, U, x0, _point(sign * threshold * Fraction(105, 100)))
+        assert _arb._tail_ok(4, U, x0, _point(sign * threshold * Fraction(95, 100)))
+
+
+def test_tail_condition_holds_for_every_u_of_a_ball():
+    """u = 1/2 +- 10^-30, theta0 = 0, j = 4: (4 - sqrt u)^2 changes by about 5 10^-30 across
+    the ball; with 2|theta1| its value at the centre the rule fails at the upper end of u and
+    is refused; 10^-25 lower it holds over the whole ball (mpmath at 60 digits gives the
+    centre value)."""
+    ctx.prec = 200
+    with mpmath.workdps(60):
+        edge = (4 - mpmath.sqrt(mpmath.mpf(1) / 2)) ** 2 / 2
+        at_centre = Fraction(mpmath.nstr(edge, 55))
+        inside = Fraction(mpmath.nstr(edge - mpmath.mpf(10) ** -25, 55))
+    U = arb(0.5) + arb(0, 1) * arb(10) ** -30
+    x0 = _point(0)
+    assert not _arb._tail_ok(4, U, x0, _point(at_centre))
+    assert _arb._tail_ok(4, U, x0, _point(inside))
