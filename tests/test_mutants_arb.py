@@ -281,3 +281,23 @@ def test_tail_condition_holds_for_every_u_of_a_ball():
     x0 = _point(0)
     assert not _arb._tail_ok(4, U, x0, _point(at_centre))
     assert _arb._tail_ok(4, U, x0, _point(inside))
+
+
+# -- the Sturm count: an exactly zero pivot after a negative one -------------------------------
+
+def test_sturm_count_reads_a_zero_pivot_below_the_first_row_as_its_limit():
+    """a_even at q = 4, x = 8: the pivots are p_0 = -8 (one eigenvalue below x so far) and
+    p_1 = 4 - 8 - 2 q^2 / p_0 = 0 exactly; read as the limit x - 0 the count goes on from 1
+    (not from 0, nor from row 1 again).  Reference: the eigenvalues of the 60-row DLMF 28.4.5
+    matrix at q = 4 (mpmath.eigsy, 50 digits) below 8."""
+    ctx.prec = 200
+    with mpmath.workdps(50):
+        n, q = 60, mpmath.mpf(4)
+        A = mpmath.zeros(n)
+        for i in range(n):
+            A[i, i] = (2 * i) ** 2
+            if i:
+                A[i, i - 1] = A[i - 1, i] = q * (mpmath.sqrt(2) if i == 1 else 1)
+        expected = sum(1 for e in mpmath.eigsy(A, eigvals_only=True) if e < 8)
+    assert expected == 2
+    assert _arb.family_count("a_even", _point(4), _point(8)) == expected
