@@ -45,27 +45,16 @@ def test_is_tiny_reads_the_upper_end_of_a_ball_and_includes_its_bound():
     assert _arb.is_tiny(None, 5) is False
 
 
-# -- nearest_double: a radius that is a power of two ------------------------------------------
+# -- nearest_double: a radius far below half an ulp ---------------------------------------------
 
-def test_nearest_double_of_a_ball_whose_radius_is_a_power_of_two():
-    """Radius exactly 2^-60 (mantissa 1) around 1 and around 3/2: both ends lie within half
-    an ulp (2^-53) of the centre, so the centre is the proved double; a radius 2^-50 (more than
-    half an ulp) proves none."""
+def test_nearest_double_of_a_ball_whose_radius_is_far_below_half_an_ulp():
+    """Radius about 2^-60 around 1 and around 3/2: both ends lie within half an ulp (2^-53)
+    of the centre, so the centre is the proved double; a radius about 2^-50 (more than half
+    an ulp) proves none."""
     ctx.prec = 200
     assert _arb.nearest_double(arb(1, 2.0 ** -60)) == 1.0
     assert _arb.nearest_double(arb(1.5, 2.0 ** -60)) == 1.5
     assert _arb.nearest_double(arb(1.5, 2.0 ** -50)) is None
-
-
-def _a0_of_q1(n=60):
-    """a_0(1): lowest eigenvalue of the n-row DLMF 28.4.5 matrix (diagonal (2i)^2, off-diagonal
-    q, the first one q sqrt 2 after symmetrising) by mpmath.eigsy at the current precision."""
-    A = mpmath.zeros(n)
-    for i in range(n):
-        A[i, i] = (2 * i) ** 2
-        if i:
-            A[i, i - 1] = A[i - 1, i] = mpmath.sqrt(2) if i == 1 else 1
-    return min(mpmath.eigsy(A, eigvals_only=True))
 
 
 # -- char_value_at: no text, no answer --------------------------------------------------------
