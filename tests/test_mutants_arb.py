@@ -57,6 +57,17 @@ def test_nearest_double_of_a_ball_whose_radius_is_far_below_half_an_ulp():
     assert _arb.nearest_double(arb(1.5, 2.0 ** -50)) is None
 
 
+def _a0_of_q1(n=60):
+    """a_0(1): lowest eigenvalue of the n-row DLMF 28.4.5 matrix (diagonal (2i)^2, off-diagonal
+    q, the first one q sqrt 2 after symmetrising) by mpmath.eigsy at the current precision."""
+    A = mpmath.zeros(n)
+    for i in range(n):
+        A[i, i] = (2 * i) ** 2
+        if i:
+            A[i, i - 1] = A[i - 1, i] = mpmath.sqrt(2) if i == 1 else 1
+    return min(mpmath.eigsy(A, eigvals_only=True))
+
+
 # -- char_value_at: no text, no answer --------------------------------------------------------
 
 def test_char_value_at_returns_nothing_when_its_ball_does_not_prove_the_digits_asked():
