@@ -301,3 +301,28 @@ def test_sturm_count_reads_a_zero_pivot_below_the_first_row_as_its_limit():
         expected = sum(1 for e in mpmath.eigsy(A, eigvals_only=True) if e < 8)
     assert expected == 2
     assert _arb.family_count("a_even", _point(4), _point(8)) == expected
+
+
+def _a_even_eigenvalues(q, n=60, dps=50):
+    """Eigenvalues of the n-row DLMF 28.4.5 matrix at q (mpmath.eigsy, symmetrised)."""
+    with mpmath.workdps(dps):
+        q = mpmath.mpf(q)
+        A = mpmath.zeros(n)
+        for i in range(n):
+            A[i, i] = (2 * i) ** 2
+            if i:
+                A[i, i - 1] = A[i - 1, i] = q * (mpmath.sqrt(2) if i == 1 else 1)
+        return mpmath.eigsy(A, eigvals_only=True)
+
+
+@pytest.mark.parametrize("q,x,expected", [
+    (12, 23, 3),   # the stop rule's next diagonal is d_{n+1} = (2n + 2)^2 of a_even, not (2n + 3)^2
+    (22, 0, 2),    # p_0 = 0 exactly: the next pivot is -inf, then the recurrence starts again
+])
+def test_sturm_count_of_a_even_at_large_q_against_the_eigenvalues(q, x, expected):
+    """Two more points where a Sturm count that stops one row early, or skips a row after an
+    exactly zero pivot, misses an eigenvalue (found by a search over integer q and x)."""
+    ctx.prec = 200
+    with mpmath.workdps(50):
+        assert sum(1 for e in _a_even_eigenvalues(q) if e < x) == expected
+    assert _arb.family_count("a_even", _point(q), _point(x)) == expected
