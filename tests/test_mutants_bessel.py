@@ -1,0 +1,142 @@
+"""Tests written from the survivors of a mutation run (mutmut) of the Bessel modules.
+
+Each test closes a gap a surviving mutant showed: a comparison made non-strict at the end
+of an open window, a check skipped for the last pair of a list, a margin of the shortening
+string summed instead of subtracted, the verdict on a margin just above zero.
+
+References, each independent of the code under test:
+* Abramowitz & Stegun, Table 9.5 (zeros j_n,s of J_1, J_2 to 10 decimals), for durations
+  and margins worked out here by hand;
+* 002_19b336b29bb1f03b.txt, last page: the first zeros of J1 and J2 as printed;
+* mpmath (besselj, besseljzero) at the digits stated.
+"""
+
+from fractions import Fraction
+
+import mpmath
+import pytest
+from flint import arb
+
+import pendulab.analyses.bessel_periods as bp
+import pendulab.analyses.bessel_zeros as bz
+
+# A&S Table 9.5 (Abramowitz & Stegun 1964, p. 409), 10 decimals.
+J11, J12, J13 = Fraction("3.8317059702"), Fraction("7.0155866698"), Fraction("10.1734681351")
+J21, J22, J23 = Fraction("5.1356223018"), Fraction("8.4172441404"), Fraction("11.6198411721")
+# 002, last page, as printed (6 significant digits, trailing zeros dropped by the source).
+SOURCE_J1 = ["3.83171", "7.01559", "10.1735", "13.3237", "16.4706"]
+SOURCE_J2 = ["5.13562", "8.41724", "11.6198", "14.796", "17.9598"]
+
+
+# -- the index: the ends of the first bracket are not zeros -----------------------------------
+
+def test_check_index_refuses_a_point_at_either_end_of_the_first_bracket():
+    """first_bracket's (a, b) is open: J_1(a) > 0 and J_1(b) < 0 (mpmath, 30 digits), so
+    neither end is a zero, and an exact ball at either end is refused as zero number 1
+    (a non-strict comparison would take it).  The true first zero passes."""
+    a, b, _ = bz.first_bracket(Fraction(1))
+    with mpmath.workdps(30):
+        for end, sign in ((a, 1), (b, -1)):
+            value = mpmath.besselj(1, mpmath.mpf(end.mid().str(40, radius=False)))
+            assert sign * value > mpmath.mpf(10) ** -3, (end, value)
+    for end in (a, b):
+        with pytest.raises(bz.CertificationError, match="ball 1 .* is not zero number 1"):
+            bz.check_index(1, [arb(end.mid())])
+    assert bz.check_index(1, bz.bessel_zeros(1, 1, 20).balls)
+
+
+def test_check_index_refuses_a_point_at_either_end_of_a_sturm_window():
+    """The window after j_1,1 is the open interval (sup ball, inf ball + 2 pi): exact points
+    at its two ends are 0.6 and 1.4 away from j_1,2 = 7.0156 (mpmath.besseljzero), so they
+    are not zero number 2 and are refused."""
+    first = bz.bessel_zeros(1, 1, 20).balls[0]
+    lo, hi, _ = bz.next_window(Fraction(1), first, max(64, first.mid().bits() + 16))
+    with mpmath.workdps(30):
+        j2 = mpmath.besseljzero(1, 2)
+        for end in (lo, hi):
+            assert abs(mpmath.mpf(end.mid().str(40, radius=False)) - j2) > mpmath.mpf("0.5")
+    for end in (lo, hi):
+        with pytest.raises(bz.CertificationError, match="ball 2 .* is not zero number 2"):
+            bz.check_index(1, [first, arb(end.mid())])
+
+
+# -- interlacing: strict, and checked up to the last pair ---------------------------------------
+
+def test_interlacing_is_strict_for_exact_points():
+    """DLMF 10.21.3 is strict: a zero of J_nu+1 equal to a zero of J_nu (exact points,
+    radius 0) is refused on either side; with balls of non-zero radius a non-strict test
+    would have refused too, so the points are exact."""
+    j1 = [b.mid() for b in bz.bessel_zeros(1, 2, 25).balls]
+    with pytest.raises(bz.CertificationError, match=r"j_nu,1 < j_nu\+1,1 not proved"):
+        bz.check_interlacing([j1[0]], [j1[0]])
+    with pytest.raises(bz.CertificationError, match=r"j_nu\+1,1 < j_nu,2 not proved"):
+        bz.check_interlacing(j1, [j1[1]])
+
+
+def test_interlacing_checks_the_last_pair_and_allows_a_longer_upper_list():
+    """In place of j_2,2 the list holds j_2,3 = 11.62 > j_1,3 = 10.17 (A&S 9.5): only the
+    last comparison j_nu+1,2 < j_nu,3 can see it.  A list of J_2's zeros one longer than
+    J_1's has nothing to compare its last zero with, and is accepted."""
+    j1 = bz.bessel_zeros(1, 3, 25).balls
+    j2 = bz.bessel_zeros(2, 4, 25).balls
+    assert float(j2[2].mid()) > float(J13) > float(J12)
+    with pytest.raises(bz.CertificationError, match=r"j_nu\+1,2 < j_nu,3 not proved"):
+        bz.check_interlacing(j1, [j2[0], j2[2]])
+    bz.check_interlacing(j1, j2)  # no error, no IndexError
+
+
+# -- quarter periods: the zeros reported, the shortening margins, the verdict -----------------
+
+def test_quarter_periods_report_the_zeros_they_used():
+    """The growing string from z0 = j_2,1 with 3 quarter periods uses j_1,1..5 and
+    j_2,1..5; at 6 digits they are the source's printed zeros."""
+    q = bp.quarter_periods(3, 6)
+    assert q.dps == 6 and q.start == 1
+    assert [Fraction(s) for s in q.zeros_j1] == [Fraction(s) for s in SOURCE_J1]
+    assert [Fraction(s) for s in q.zeros_j2] == [Fraction(s) for s in SOURCE_J2]
+
+
+def test_shortening_margins_are_differences_in_time_order():
+    """Shortening from z0 = j_2,3, in time order: inward j23^2 - j13^2, outward j13^2 - j22^2,
+    inward j22^2 - j12^2, outward j12^2 - j21^2, inward j21^2 - j11^2.  margin_after[i] is
+    inward i minus the outward swing after it, margin_before[i] inward i + 1 minus the one
+    before it; worked out by hand from A&S 9.5 (error below 1e-8)."""
+    q = bp.quarter_periods(5, 8, bp.SHORTENING)
+    ins = [J23 ** 2 - J13 ** 2, J22 ** 2 - J12 ** 2, J21 ** 2 - J11 ** 2]
+    outs = [J13 ** 2 - J22 ** 2, J12 ** 2 - J21 ** 2]
+    after = [ins[0] - outs[0], ins[1] - outs[1]]
+    before = [ins[1] - outs[0], ins[2] - outs[1]]
+    assert len(q.margin_after) == 2 and len(q.margin_before) == 2
+    for ours, ref in zip(q.margin_after + q.margin_before, after + before):
+        assert abs(Fraction(ours) - ref) < Fraction(1, 10 ** 5), (ours, float(ref))
+    for ball, ref in zip(q.after_balls + q.before_balls, after + before):
+        assert abs(Fraction(ball.mid().str(30, radius=False)) - ref) < Fraction(1, 10 ** 7)
+
+
+def test_a_single_inward_swing_has_no_margin():
+    """Shortening from z0 = j_2,1: one quarter period, inward j21^2 - j11^2 (A&S 9.5), no
+    outward swing beside it, so nothing decides the claim: the verdict is None (not False,
+    not an empty value)."""
+    q = bp.quarter_periods(1, 8, bp.SHORTENING, start=1)
+    assert abs(Fraction(q.inward[0]) - (J21 ** 2 - J11 ** 2)) < Fraction(1, 10 ** 5)
+    assert q.outward == [] and q.margin_after == [] and q.margin_before == []
+    assert q.claim_holds is None and "no margin" in q._verdict()
+
+
+def test_the_claim_holds_for_a_margin_just_above_zero(monkeypatch):
+    """j_1,3 moved so that margin_after[1] = 2 j_1,3^2 - j_2,2^2 - j_2,3^2 is +1e-10 instead
+    of 1.128: every margin is still positive, so the claim holds (a test of "positive" that
+    asked for more than 0, e.g. more than 1, would leave the verdict undecided)."""
+    real = bp.bessel_zeros
+
+    def moved(nu, count, dps, extra_bits=0, window_bits=None):
+        res = real(nu, count, dps, extra_bits)
+        if nu == 1:
+            j2 = real(2, count, dps, extra_bits).balls
+            with bz._Prec(bz.bits_for(dps) + extra_bits + 16):
+                res.balls[2] = ((j2[1] ** 2 + j2[2] ** 2 + arb("1e-10")) / 2).sqrt()
+        return res
+    monkeypatch.setattr(bp, "bessel_zeros", moved)
+    q = bp.quarter_periods(3, 6)
+    assert q.after_balls[1] > 0 and q.margin_after[1] == "1.00000e-10"
+    assert q.claim_holds is True
