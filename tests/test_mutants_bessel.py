@@ -17,8 +17,10 @@ import mpmath
 import pytest
 from flint import arb
 
+import pendulab.analyses.bessel_identities as bi
 import pendulab.analyses.bessel_periods as bp
 import pendulab.analyses.bessel_zeros as bz
+from pendulab.errors import InputError
 
 # A&S Table 9.5 (Abramowitz & Stegun 1964, p. 409), 10 decimals.
 J11, J12, J13 = Fraction("3.8317059702"), Fraction("7.0155866698"), Fraction("10.1734681351")
@@ -140,3 +142,78 @@ def test_the_claim_holds_for_a_margin_just_above_zero(monkeypatch):
     q = bp.quarter_periods(3, 6)
     assert q.after_balls[1] > 0 and q.margin_after[1] == "1.00000e-10"
     assert q.claim_holds is True
+
+
+def test_quarter_periods_refuse_a_count_or_start_past_ten_thousand():
+    """count and start go from 1 to 10_000 (the limit of the API): 10_000 itself is a valid
+    start for the growing string's arguments, 10_001 is refused with a message naming the
+    argument."""
+    with pytest.raises(InputError, match="count must be an integer from 1 to 10000, got 10001"):
+        bp.quarter_periods(10_001, 6)
+    with pytest.raises(InputError, match="start must be an integer from 1 to 10000, got 10001"):
+        bp.quarter_periods(1, 6, start=10_001)
+    with pytest.raises(InputError, match="direction must be 'growing' or 'shortening'"):
+        bp.quarter_periods(1, 6, "sideways")
+
+
+def test_a_shortening_string_reports_only_the_zeros_it_passes():
+    """Shortening from z0 = j_2,2 with 3 quarter periods passes j_2,2, j_1,2, j_2,1, j_1,1 and
+    nothing beyond z0: the zeros reported are j_1,1..2 and j_2,1..2 (A&S 9.5, 8 digits)."""
+    q = bp.quarter_periods(3, 8, bp.SHORTENING, start=2)
+    for ours, ref in zip((q.zeros_j1, q.zeros_j2), ((J11, J12), (J21, J22))):
+        assert len(ours) == 2
+        assert all(abs(Fraction(s) - r) < Fraction(1, 10 ** 6) for s, r in zip(ours, ref))
+
+
+def test_each_precision_raise_of_quarter_periods_adds_bits(monkeypatch):
+    """When a duration or margin cannot be rounded, quarter_periods retries with 32 more bits
+    each time (MAX_RAISES times): with the margin made exactly 0 (no retry ever succeeds) the
+    extra bits of the successive attempts must grow by 32, never stay the same."""
+    real_zeros, real_compute = bp.bessel_zeros, bp._compute
+    extras = []
+
+    def moved(nu, count, dps, extra_bits=0, window_bits=None):
+        res = real_zeros(nu, count, dps, extra_bits)
+        if nu == 1:
+            j2 = real_zeros(2, count, dps, extra_bits).balls
+            with bz._Prec(bz.bits_for(dps) + extra_bits + 16):
+                res.balls[2] = ((j2[1] ** 2 + j2[2] ** 2) / 2).sqrt()
+        return res
+
+    def spy(count, dps, direction, m, nmax, extra):
+        extras.append(extra)
+        return real_compute(count, dps, direction, m, nmax, extra)
+    monkeypatch.setattr(bp, "bessel_zeros", moved)
+    monkeypatch.setattr(bp, "_compute", spy)
+    with pytest.raises(bz.CertificationError, match="with 512 more bits"):
+        bp.quarter_periods(3, 6)
+    assert len(extras) == bp.MAX_RAISES == 16
+    assert [b - a for a, b in zip(extras, extras[1:])] == [32] * 15
+
+
+# -- the default grid of the identity check ---------------------------------------------------
+
+def test_default_grid_is_log_spaced_and_holds_the_doubles_next_to_the_first_zeros():
+    """200 points log-spaced from 1e-30 to 1e6 (numpy.logspace as the reference, 1e-13
+    relative) and the doubles nearest to j_n,k, n = 0, 1, 2, k = 1, 2, 3 (mpmath.besseljzero
+    at 30 digits, rounded to a double)."""
+    import numpy as np
+    grid = bi.default_grid()
+    with mpmath.workdps(30):
+        zeros = sorted(float(mpmath.besseljzero(n, k)) for n in (0, 1, 2) for k in (1, 2, 3))
+    assert len(grid) == 209 and grid == sorted(grid)
+    assert all(z in grid for z in zeros)
+    rest = [z for z in grid if z not in zeros]
+    ref = np.logspace(-30, 6, 200)
+    assert len(rest) == 200
+    assert np.max(np.abs(np.array(rest) / ref - 1)) < 1e-13
+
+
+@pytest.mark.parametrize("count", [1, 10_001, True, 2.0])
+def test_default_grid_refuses_a_bad_count(count):
+    with pytest.raises(InputError, match="points must be an integer from 2 to 10000"):
+        bi.default_grid(count)
+
+
+def test_default_grid_takes_the_largest_count():
+    assert len(bi.default_grid(10_000, near_zeros=False)) == 10_000
