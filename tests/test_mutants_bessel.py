@@ -217,3 +217,24 @@ def test_default_grid_refuses_a_bad_count(count):
 
 def test_default_grid_takes_the_largest_count():
     assert len(bi.default_grid(10_000, near_zeros=False)) == 10_000
+
+
+# -- the double-precision comparison of docs/bessel.md ----------------------------------------
+
+def test_scipy_cross_product_is_accurate_where_nothing_overflows():
+    """J_n Y_n+1 - J_n+1 Y_n = -2/(pi z) (DLMF 10.5.3) in doubles: at z = 0.5 and 10, n = 0..3,
+    nothing overflows and SciPy's product is right to a few ulps; the list has one entry
+    per (z, n) in that order.  A wrong sign, order or reference would give errors near 1."""
+    got = bi.scipy_cross_product_errors(3, [0.5, 10.0])
+    assert [(z, n) for z, n, _ in got] == [(z, n) for z in (0.5, 10.0) for n in range(4)]
+    assert all(err < 1e-13 for _, _, err in got), got
+
+
+def test_scipy_value_errors_of_y_are_small_away_from_its_zeros():
+    """SciPy's yv(1, z) against arb: a few ulps at z = 0.5 and 1e6, no correct digit at the
+    double next to y_1,1 (mpmath.besselyzero, 30 digits), where Y_1 ~ 1e-17."""
+    with mpmath.workdps(30):
+        y11 = float(mpmath.besselyzero(1, 1))
+    got = bi.scipy_value_errors(1, [0.5, 1e6, y11])
+    assert got[0][2] < 1e-14 and got[1][2] < 1e-14
+    assert got[2][2] > 0.1
