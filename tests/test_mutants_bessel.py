@@ -238,3 +238,19 @@ def test_scipy_value_errors_of_y_are_small_away_from_its_zeros():
     got = bi.scipy_value_errors(1, [0.5, 1e6, y11])
     assert got[0][2] < 1e-14 and got[1][2] < 1e-14
     assert got[2][2] > 0.1
+
+
+def test_the_worst_error_of_each_identity_is_the_largest_over_the_points():
+    """by_rule keeps, for each (engine, identity), the largest error over the grid: checked
+    over two points it equals the larger of the two one-point checks (and its z), and for
+    at least one identity the larger is at the second point, so keeping the first would
+    show."""
+    pts = [3.8317059702075125, 0.5]
+    both = bi.check_identities(1, 15, pts, engines=("mpmath",))
+    one = [bi.check_identities(1, 15, [z], engines=("mpmath",)) for z in pts]
+    later = 0
+    for key, (err, z, _) in both.by_rule.items():
+        errs = [rep.by_rule[key][0] for rep in one]
+        assert err == max(errs) and z == pts[errs.index(max(errs))], key
+        later += errs[1] > errs[0]
+    assert later >= 1
