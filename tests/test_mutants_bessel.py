@@ -254,3 +254,19 @@ def test_the_worst_error_of_each_identity_is_the_largest_over_the_points():
         assert err == max(errs) and z == pts[errs.index(max(errs))], key
         later += errs[1] > errs[0]
     assert later >= 1
+
+
+# -- the bound on J'' of interval Newton, where its two terms are of one size -------------------
+
+@pytest.mark.parametrize("nu, lo", [(0, 1), (1, 2)])
+def test_second_derivative_bound_where_its_terms_are_alike(nu, lo):
+    """At lo = 1 (nu = 0) and lo = 2 (nu = 1) the term (nu/lo + 1)/lo is as large as the
+    swing max(|1 - nu^2/lo^2|, 1) = 1: a bound that subtracted one from the other (0 and
+    0.25), or used nu/lo - 1 (0 for J_0), would fall below sup |J_nu''| on [lo, 40]
+    (mpmath's own derivative=2 on a grid of step 0.05: 0.325 for J_0 at 1)."""
+    with bz._Prec(64):
+        bound = float(bz.second_derivative_bound(arb(nu), arb(lo)))
+    with mpmath.workdps(15):
+        worst = max(abs(mpmath.besselj(nu, lo + i * mpmath.mpf("0.05"), derivative=2))
+                    for i in range(int((40 - lo) / 0.05) + 1))
+    assert worst > 0.2 and bound >= worst, (nu, lo, bound, worst)
