@@ -11,6 +11,7 @@ References, each independent of the code under test:
 * mpmath (besselj, besseljzero) at the digits stated.
 """
 
+import math
 from fractions import Fraction
 
 import mpmath
@@ -222,12 +223,15 @@ def test_default_grid_takes_the_largest_count():
 # -- the double-precision comparison of docs/bessel.md ----------------------------------------
 
 def test_scipy_cross_product_is_accurate_where_nothing_overflows():
-    """J_n Y_n+1 - J_n+1 Y_n = -2/(pi z) (DLMF 10.5.3) in doubles: at z = 0.5 and 10, n = 0..3,
-    nothing overflows and SciPy's product is right to a few ulps; the list has one entry
-    per (z, n) in that order.  A wrong sign, order or reference would give errors near 1."""
-    got = bi.scipy_cross_product_errors(3, [0.5, 10.0])
-    assert [(z, n) for z, n, _ in got] == [(z, n) for z in (0.5, 10.0) for n in range(4)]
+    """J_n Y_n+1 - J_n+1 Y_n = -2/(pi z) (DLMF 10.5.3) in doubles: at z = 1e-30, 0.5 and 10,
+    n = 0..3, nothing overflows and SciPy's product is right to a few ulps relative to
+    2/(pi z) (6e29 at z = 1e-30, so an absolute error would not pass); the list has one
+    entry per (z, n) in that order.  A wrong sign, order or reference would give errors near
+    1.  Where Y_n overflows (n = 12 at 1e-30) the error is reported as infinite."""
+    got = bi.scipy_cross_product_errors(3, [1e-30, 0.5, 10.0])
+    assert [(z, n) for z, n, _ in got] == [(z, n) for z in (1e-30, 0.5, 10.0) for n in range(4)]
     assert all(err < 1e-13 for _, _, err in got), got
+    assert bi.scipy_cross_product_errors(12, [1e-30])[-1][2] == math.inf
 
 
 def test_scipy_value_errors_of_y_are_small_away_from_its_zeros():
