@@ -274,3 +274,28 @@ def test_second_derivative_bound_where_its_terms_are_alike(nu, lo):
         worst = max(abs(mpmath.besselj(nu, lo + i * mpmath.mpf("0.05"), derivative=2))
                     for i in range(int((40 - lo) / 0.05) + 1))
     assert worst > 0.2 and bound >= worst, (nu, lo, bound, worst)
+
+
+# -- the Sturm window where it must be two-sided ----------------------------------------------
+
+#: j_300,4..6 by scipy.special.jn_zeros(300, 6) (SciPy 1.x, double precision); each is
+#: confirmed below by a sign change of mpmath.besselj(300, x) across x -+ 1e-9.
+J_300 = {4: 337.3581757209018, 5: 343.9879577023811, 6: 350.2333678599057}
+
+
+def test_next_window_of_a_large_order_just_below_q_one_quarter():
+    """After j_300,4 = 337.358, q(x) = 1 - (nu^2 - 1/4)/x^2 = 0.209 < 1/4, and the next zero
+    is 6.63 > 2 pi further: a window (sup ball, inf ball + 2 pi) would miss it, so the
+    window must be the two-sided one of the turning point.  It holds j_300,5 and not
+    j_300,6."""
+    with mpmath.workdps(30):
+        balls = {}
+        for k, x in J_300.items():
+            lo, hi = mpmath.mpf(x) - mpmath.mpf("1e-9"), mpmath.mpf(x) + mpmath.mpf("1e-9")
+            assert mpmath.besselj(300, lo) * mpmath.besselj(300, hi) < 0, k
+            with bz._Prec(200):
+                balls[k] = arb(repr(x)) + arb(0, arb("1e-9"))
+    assert J_300[5] - J_300[4] > 2 * float(mpmath.pi)
+    a, b, c = bz.next_window(Fraction(300), balls[4], 200)
+    assert a < balls[5] < b and c < balls[5]
+    assert b < balls[6]
