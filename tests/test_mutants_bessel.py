@@ -299,3 +299,22 @@ def test_next_window_of_a_large_order_just_below_q_one_quarter():
     a, b, c = bz.next_window(Fraction(300), balls[4], 200)
     assert a < balls[5] < b and c < balls[5]
     assert b < balls[6]
+
+
+@pytest.mark.parametrize("nu", ["3/5", "3/4", "9/10"])
+def test_next_window_for_orders_between_one_half_and_one(nu):
+    """For 1/2 <= nu < 1, q = 1 - (nu^2 - 1/4)/x^2 < 1, so zeros are at least pi apart and the
+    window after x ends at x + 2 pi.  Ending it at x + 2 pi/sqrt(q(x)) instead (the bound
+    for nu < 1/2) would take in j_nu,k+2 as well: by 0.02 to 0.09 for k = 1 (mpmath).
+    Reference: mpmath.besseljzero at 40 digits."""
+    nuq = Fraction(nu)
+    with mpmath.workdps(40):
+        order = mpmath.mpf(nuq.numerator) / nuq.denominator
+        js = [mpmath.besseljzero(order, k) for k in range(1, 5)]
+        q = 1 - (order ** 2 - mpmath.mpf(1) / 4) / js[0] ** 2
+        assert js[0] + 2 * mpmath.pi / mpmath.sqrt(q) > js[2]  # the looser end is wrong here
+        balls = [arb(mpmath.nstr(j, 40)) + arb(0, arb(10) ** -35) for j in js]
+    for k in range(2):
+        a, b, c = bz.next_window(nuq, balls[k], 200)
+        assert a < balls[k + 1] < b and c < balls[k + 1], (nu, k + 1)
+        assert b < balls[k + 2], (nu, k + 1)
