@@ -50,14 +50,14 @@ def test_check_index_refuses_a_point_at_either_end_of_the_first_bracket():
 
 def test_check_index_refuses_a_point_at_either_end_of_a_sturm_window():
     """The window after j_1,1 is the open interval (sup ball, inf ball + 2 pi): exact points
-    at its two ends are 0.6 and 1.4 away from j_1,2 = 7.0156 (mpmath.besseljzero), so they
-    are not zero number 2 and are refused."""
+    at its two ends (3.83 and 10.11) are more than 3 away from j_1,2 = 7.0156
+    (mpmath.besseljzero), so they are not zero number 2 and are refused."""
     first = bz.bessel_zeros(1, 1, 20).balls[0]
     lo, hi, _ = bz.next_window(Fraction(1), first, max(64, first.mid().bits() + 16))
     with mpmath.workdps(30):
         j2 = mpmath.besseljzero(1, 2)
         for end in (lo, hi):
-            assert abs(mpmath.mpf(end.mid().str(40, radius=False)) - j2) > mpmath.mpf("0.5")
+            assert abs(mpmath.mpf(end.mid().str(40, radius=False)) - j2) > 3
     for end in (lo, hi):
         with pytest.raises(bz.CertificationError, match="ball 2 .* is not zero number 2"):
             bz.check_index(1, [first, arb(end.mid())])
@@ -146,9 +146,8 @@ def test_the_claim_holds_for_a_margin_just_above_zero(monkeypatch):
 
 
 def test_quarter_periods_refuse_a_count_or_start_past_ten_thousand():
-    """count and start go from 1 to 10_000 (the limit of the API): 10_000 itself is a valid
-    start for the growing string's arguments, 10_001 is refused with a message naming the
-    argument."""
+    """count and start go from 1 to 10_000 (the limit of the API): 10_001 is refused with a
+    message naming the argument and the range; so is an unknown direction."""
     with pytest.raises(InputError, match="count must be an integer from 1 to 10000, got 10001"):
         bp.quarter_periods(10_001, 6)
     with pytest.raises(InputError, match="start must be an integer from 1 to 10000, got 10001"):
