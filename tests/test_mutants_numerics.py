@@ -103,3 +103,82 @@ def test_a_warning_asks_for_the_least_step_count_that_is_silent(system, a, w, st
     assert need == least > steps
     assert SC.check_step(fos, float(fos.period) / need, row).inaccurate == 0
     assert SC.check_step(fos, float(fos.period) / (need - 1), row).inaccurate == 1
+
+
+def _need(found):
+    """The advice of a StepCheck: (kind, N) or None."""
+    if found.refusal("x"):
+        return "refused", _advised(found.refusal("x"), r"ask for at least (\d+) steps")
+    if found.warning("x"):
+        return "warned", _advised(found.warning("x"), r"(\d+) or more steps per drive period")
+    return None
+
+
+HILL = S.SystemSpec("rod", drive="a*cos(omega*t) + a*cos(2*omega*t)")
+# rows that are not a product grid: a stiff undriven cell next to mild driven ones, so that
+# the cell of the largest stiffness is not the cell of the fastest drive
+# (at 8 steps per period the undriven (0, 2.5), sqrt(max|q|) = 5, is warned about and asks for
+# 16 steps, more than the 13 of the drive's harmonic cos 2 tau)
+ROWS = [(0.0, 0.9), (0.02, 0.05), (0.3, 0.2), (0.0, 0.0), (0.05, 0.6), (0.0, 2.5)]
+# without the two stiffest cells: at one step per period of the two-harmonic drive the aliased
+# cells need 3 steps and the stiff undriven (0, 0.9) only 2, though it is refused too
+MILD_ROWS = [ROWS[k] for k in (0, 1, 3, 4)]
+
+
+@pytest.mark.parametrize("cells", [ROWS, MILD_ROWS])
+@pytest.mark.parametrize("system", [S.SystemSpec("rod"), HILL])
+@pytest.mark.parametrize("steps", [1, 2, 3, 5, 8, 13, 20])
+def test_many_cells_are_checked_as_each_cell_alone(system, steps, cells):
+    # the counts of a grid are the sums of its cells checked one by one, and its advice is the
+    # least step count that every cell accepts (refusal) or leaves silent (warning)
+    fos, _ = _cell(system, 0.0, 0.0)
+    rows = [[{"a_over_l": a, "w0_over_w": w}[s.name] for s in fos.params] for a, w in cells]
+    period = float(fos.period)
+    grid = SC.check_step(fos, period / steps, rows)
+    alone = [SC.check_step(fos, period / steps, [r]) for r in rows]
+    assert grid.cells == len(rows)
+    assert grid.unstable == sum(c.unstable for c in alone)
+    assert grid.inaccurate == sum(c.inaccurate for c in alone)
+    advice = _need(grid)
+    if advice is None:
+        assert all(_need(c) is None for c in alone)
+        return
+    kind, need = advice
+    field = "unstable" if kind == "refused" else "inaccurate"
+    assert need == max(_need(c)[1] for c in alone if _need(c) and _need(c)[0] == kind)
+    assert not any(getattr(SC.check_step(fos, period / need, [r]), field) for r in rows)
+    assert any(getattr(SC.check_step(fos, period / (need - 1), [r]), field) for r in rows)
+    # the worst cell reported is one whose own advice is the grid's
+    worst = [grid.worst[s.name] for s in fos.params]
+    assert _need(SC.check_step(fos, period / steps, [worst])) == advice
+
+
+def test_more_cells_than_one_chunk_are_all_checked():
+    # CHUNK (4096) cells are evaluated together: 2 CHUNK + 5 cells, the only stiff one last
+    fos, _ = _cell(S.SystemSpec("rod", angle="down"), 0.0, 0.0)
+    n = 2 * SC.CHUNK + 5
+    rows = np.zeros((n, len(fos.params)))
+    rows[:, [s.name for s in fos.params].index("w0_over_w")] = 0.01
+    rows[-1, [s.name for s in fos.params].index("w0_over_w")] = 3.0   # |q| = 36
+    found = SC.check_step(fos, float(fos.period) / 6, rows)
+    assert found.unstable == 1 and found.worst["w0_over_w"] == 3.0
+    assert found.rate == pytest.approx(6.0, rel=1e-13)
+
+
+def test_the_limits_hold_as_written_at_equality():
+    # the module's rule: refused for h sqrt(max|q|) > 2 sqrt(2) (at the limit |R(iy)| = 1: no
+    # growth) and h r >= 2 pi; warned for h sqrt(max|q|) > 1 and h r > 1/2.  Products that
+    # are exactly the limits in binary: |q| = 4 (rate 2, no drive) with h = sqrt(2) and 1/2,
+    # and r = 2 with h = 1/4 (rate small).
+    down, _ = _cell(S.SystemSpec("rod", angle="down"), 0.0, 1.0)
+    row = [[{"a_over_l": 0.0, "w0_over_w": 1.0}[s.name] for s in down.params]]
+    at = SC.check_step(down, SC.RK4_IMAGINARY_LIMIT / 2, row)
+    assert at.rate == 2.0 and at.dt * at.rate == SC.RK4_IMAGINARY_LIMIT
+    assert (at.unstable, at.inaccurate) == (0, 1)
+    at = SC.check_step(down, 0.5, row)
+    assert at.rate_upper == 2.0 and (at.unstable, at.inaccurate) == (0, 0)
+    rod, _ = _cell(S.SystemSpec("rod"), 0.0, 0.0)
+    row = [[{"a_over_l": 1e-6, "w0_over_w": 0.0}[s.name] for s in rod.params]]
+    at = SC.check_step(rod, 0.25, row)
+    assert at.harmonic == 2.0 and at.dt * at.harmonic == 0.5 and at.dt * at.rate_upper < 1
+    assert (at.unstable, at.inaccurate) == (0, 0)
