@@ -182,3 +182,14 @@ def test_the_limits_hold_as_written_at_equality():
     at = SC.check_step(rod, 0.25, row)
     assert at.harmonic == 2.0 and at.dt * at.harmonic == 0.5 and at.dt * at.rate_upper < 1
     assert (at.unstable, at.inaccurate) == (0, 0)
+
+
+def test_the_sweep_criteria_are_strict_at_their_thresholds():
+    # "theta medio menor que 0.1" (000 sec. 4): a mean of exactly 0.1 is not stable, nor a
+    # mean |theta| of 0.1, nor a run that reaches |theta| = pi/2 (the horizontal)
+    stats = {"mean_theta": [0.1, -0.1, np.nextafter(0.1, 0)],
+             "mean_abs_theta": [0.1, np.nextafter(0.1, 0), 0.0],
+             "max_abs_theta": [math.pi / 2, np.nextafter(math.pi / 2, 0), 0.0]}
+    assert list(S.verdict("mean", stats)) == [False, False, True]
+    assert list(S.verdict("mean-abs", stats)) == [False, True, True]
+    assert list(S.verdict("bounded", stats)) == [False, True, True]
