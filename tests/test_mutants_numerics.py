@@ -1,5 +1,7 @@
 """Tests that close gaps mutation testing found in the numerics proof steps (docs/mutation.md):
-the RK4 step check's advice (the number of steps per period it asks for).
+the RK4 step check's advice (the number of steps per period it asks for), a grid of cells
+checked as its cells one by one, more cells than one chunk, the limits of the step check and
+of the sweep's criteria at exact equality.
 
 A refusal of pendulab.numerics.step_check says "ask for at least N steps per drive period" and
 a warning "N or more steps per drive period resolve it".  N must be the least whole number of
