@@ -78,3 +78,35 @@ def scipy_mathieu_limits(ratio, inertia_ratio):
 def scipy_limits():
     """:func:`scipy_mathieu_limits`, the independent reference of the stability limits."""
     return scipy_mathieu_limits
+
+
+# mutmut (docs/mutation.md) forks each mutant's test run from the process that collected the
+# coverage statistics, so every per-process cache that process filled is inherited: a result
+# cached there is served without calling the mutated function, and the mutant "survives"
+# untested.  Under mutmut (MUTANT_UNDER_TEST set) the caches of computed results are emptied
+# before every test; the derivations (_STAGES, _SYSTEMS: seconds each) only when the mutant
+# is in the functions that fill them.
+_RESULT_CACHES = {
+    "pendulab.numerics.sweep": ("_PAIRS", "_VERDICTS", "_EXPONENTS", "_MONODROMY_MAPS"),
+    "pendulab.numerics.step_check": ("_COEFFICIENTS",),
+    "pendulab.numerics.monodromy": ("_LAMBDIFIED",),
+}
+_DERIVATION_FILLERS = ("x__derive_", "x__stages_", "x_stages_", "x_first_order_system_",
+                       "x_use_stages_")
+
+
+@pytest.fixture(autouse=True)
+def _fresh_caches_under_mutmut():
+    import os
+    import sys
+
+    mutant = os.environ.get("MUTANT_UNDER_TEST", "")
+    if mutant:
+        for name, caches in _RESULT_CACHES.items():
+            module = sys.modules.get(name)
+            for cache in caches if module is not None else ():
+                getattr(module, cache).clear()
+        if any(f in mutant for f in _DERIVATION_FILLERS) and "pendulab.numerics.sweep" in sys.modules:
+            sys.modules["pendulab.numerics.sweep"]._STAGES.clear()
+            sys.modules["pendulab.numerics.sweep"]._SYSTEMS.clear()
+    yield
