@@ -222,3 +222,31 @@ def test_two_extrapolations_that_differ_are_refused(monkeypatch, error, refused)
         h = H.hill_trace(fourier, math.pi)
         assert abs(h.trace / 2 - (-1 + (0.9 + delta) * span)) < 1e-12
         assert abs(h.error - error) < 1e-12
+
+
+def _a0(q, dps=60, rows=30):
+    """a_0(q) as the least eigenvalue of the DLMF 28.4.5 matrix (diagonal (2j)^2, off-diagonal
+    q, sqrt(2) q in the first place), 30 rows at 60 digits by mpmath.eigsy."""
+    with mpmath.workdps(dps):
+        M = mpmath.zeros(rows)
+        for j in range(rows):
+            M[j, j] = mpmath.mpf(2 * j) ** 2
+            if j + 1 < rows:
+                M[j, j + 1] = M[j + 1, j] = q
+        M[0, 1] = M[1, 0] = mpmath.sqrt(2) * q
+        return min(mpmath.eigsy(M, eigvals_only=True))
+
+
+@pytest.mark.parametrize("side", [1, -1])
+def test_exact_verdict_of_an_irrational_theta0_a_hair_from_an_edge(side):
+    """theta0 = a_0(q) +- sqrt(2) 10^-25 (irrational), q = theta1 = 2 * 0.1: above a_0 the
+    first band (stable), below it the gap (unstable).  15 significant digits of theta0 (about
+    0.02) would round it by up to 5e-18 and put one of the two on the wrong side."""
+    al = ra = 0.1
+    with mpmath.workdps(60):
+        q = 2 * mpmath.mpf(F(al).numerator) / F(al).denominator
+        a0 = _a0(q)
+        shift_text = mpmath.nstr(a0 + 4 * (mpmath.mpf(F(ra).numerator) / F(ra).denominator) ** 2,
+                                 50)
+    shift = sp.Rational(shift_text) + side * sp.sqrt(2) / 10 ** 25
+    assert _exact_verdict(_Irrational(shift), {}, al, ra) is (side > 0)
