@@ -31,7 +31,7 @@ from pendulab.analyses import hill_general as H
 from pendulab.analyses.floquet import _bands as B
 from pendulab.analyses.floquet import characteristic_exponent
 from pendulab.analyses.stability_map import _exact_verdict, map_stability, stability_map
-from pendulab.errors import ConvergenceError
+from pendulab.errors import ConvergenceError, InputError
 
 # ---------------------------------------------------------------------------
 # _bands: the Sturm count on doubles, the continued-fraction depth rule
@@ -48,6 +48,14 @@ def test_sturm_count_on_doubles_reads_an_exactly_zero_pivot_as_a_tiny_one():
     assert expected == 1
     assert B._sturm_count(d, e2, 0.0) == expected
 
+
+
+def test_sturm_count_at_working_precision_reads_an_exactly_zero_pivot_as_a_tiny_one():
+    """The same matrix in mpf (the input of _edge_count): the zero pivot is replaced by a
+    number below every rounding of the working precision, not by a large one."""
+    with mpmath.workdps(30):
+        d, e2 = [mpmath.mpf(0), mpmath.mpf("-0.5")], [mpmath.mpf("0.01")]
+        assert B._sturm_count(d, e2, mpmath.mpf(0)) == 1
 
 @pytest.mark.parametrize("theta0,theta1,digits", [
     (30.0, 1.0, 30),      # theta0 > 0 just below m0^2: |C_m| = m^2 - theta0 is small
@@ -250,3 +258,18 @@ def test_exact_verdict_of_an_irrational_theta0_a_hair_from_an_edge(side):
                                  50)
     shift = sp.Rational(shift_text) + side * sp.sqrt(2) / 10 ** 25
     assert _exact_verdict(_Irrational(shift), {}, al, ra) is (side > 0)
+
+
+def test_a_constant_term_with_an_imaginary_part_is_refused():
+    """A_0 = 0.1 + 0.5i: Hill's relation needs a real c_0 (sigma = sqrt(c_0))."""
+    with pytest.raises(InputError, match="A_0 must be real"):
+        H.hill_trace({0: (0.1 + 0.5j, 0.0), 2: (0.4, 0.0)}, math.pi)
+
+
+def test_an_extrapolation_that_is_not_a_number_is_refused(monkeypatch):
+    """One of the two extrapolations NaN (an overflowed determinant): refused, not returned as
+    a NaN trace (NaN passes no comparison, so the convergence check alone would let it by)."""
+    out = iter([0.9, float("nan")])
+    monkeypatch.setattr(H, "_extrapolate", lambda values: next(out))
+    with pytest.raises(ConvergenceError, match="overflowed"):
+        H.hill_trace({0: (-0.01, 0.0), 2: (0.4, 0.0)}, math.pi)
