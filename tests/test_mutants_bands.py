@@ -30,7 +30,7 @@ from pendulab import symbols as S
 from pendulab.analyses import hill_general as H
 from pendulab.analyses.floquet import _bands as B
 from pendulab.analyses.floquet import characteristic_exponent
-from pendulab.analyses.stability_map import _exact_verdict, map_stability, stability_map
+from pendulab.analyses.stability_map import _exact_verdict, map_limits, map_stability, stability_map
 from pendulab.errors import ConvergenceError, InputError
 
 # ---------------------------------------------------------------------------
@@ -275,3 +275,22 @@ def test_an_extrapolation_that_is_not_a_number_is_refused(monkeypatch):
     monkeypatch.setattr(H, "_extrapolate", lambda values: next(out))
     with pytest.raises(ConvergenceError, match="overflowed"):
         H.hill_trace({0: (-0.01, 0.0), 2: (0.4, 0.0)}, math.pi)
+
+
+class _ThetaZeroIsTheRatio:
+    """A Mathieu map with theta0 = omega0/omega and a/l = theta1 / 2 (map_limits' inputs)."""
+
+    def __init__(self):
+        self.theta0 = S.w0_over_w
+        self.theta1 = 2 * S.a_over_l
+        self.scale = sp.Rational(1, 2)
+        self.symbols = (S.a_over_l, S.w0_over_w)
+        self._fns = {}
+
+
+def test_map_limits_refuses_theta0_exactly_one():
+    """At theta0 = 1 (= a_1(0) = b_1(0), DLMF 28.2(v)) the band that starts at theta1 = 0 is
+    not the first one: refused in one line, as for any theta0 > 1."""
+    for ratio in (F(1), F(3, 2)):
+        with pytest.raises(InputError, match=r"theta0 = .* >= 1"):
+            map_limits(_ThetaZeroIsTheRatio(), {"w0_over_w": ratio})
