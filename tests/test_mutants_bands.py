@@ -294,3 +294,10 @@ def test_map_limits_refuses_theta0_exactly_one():
     for ratio in (F(1), F(3, 2)):
         with pytest.raises(InputError, match=r"theta0 = .* >= 1"):
             map_limits(_ThetaZeroIsTheRatio(), {"w0_over_w": ratio})
+
+
+@pytest.mark.parametrize("inertia", [0, -1.0, 0.0])
+def test_stability_map_refuses_an_inertia_ratio_that_is_not_positive(inertia):
+    """I/(m l^2) must be > 0: zero or negative is refused by name, before any evaluation."""
+    with pytest.raises(InputError, match="inertia_ratio must be a positive number"):
+        stability_map([0.1], [0.1], inertia_ratio=inertia)
