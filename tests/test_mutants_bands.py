@@ -49,7 +49,6 @@ def test_sturm_count_on_doubles_reads_an_exactly_zero_pivot_as_a_tiny_one():
     assert B._sturm_count(d, e2, 0.0) == expected
 
 
-
 def test_sturm_count_at_working_precision_reads_an_exactly_zero_pivot_as_a_tiny_one():
     """The same matrix in mpf (the input of _edge_count): the zero pivot is replaced by a
     number below every rounding of the working precision, not by a large one."""
@@ -57,8 +56,9 @@ def test_sturm_count_at_working_precision_reads_an_exactly_zero_pivot_as_a_tiny_
         d, e2 = [mpmath.mpf(0), mpmath.mpf("-0.5")], [mpmath.mpf("0.01")]
         assert B._sturm_count(d, e2, mpmath.mpf(0)) == 1
 
+
 @pytest.mark.parametrize("theta0,theta1,digits", [
-    (30.0, 1.0, 30),      # theta0 > 0 just below m0^2: |C_m| = m^2 - theta0 is small
+    (30.0, 1.0, 30),      # theta0 > 0: |theta0 + m^2| would overstate |C_m| = m^2 - theta0
     (99.0, 0.5, 50),
     (0.5, 0.3, 20),       # |theta1| < 1: log theta1 < 0
     (-50.0, 5.0, 40),
