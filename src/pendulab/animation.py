@@ -94,13 +94,15 @@ def _points(fn, time, theta, params):
 
 
 def pivot_frames(system, a_over_l, w0_over_w, theta_init=0.06, omega_init=0.01, periods=20,
-                 frames_per_period=16, steps_per_frame=None):
+                 frames_per_period=16, steps_per_frame=None, step_label=None, warn=None):
     """:class:`Frames` of the driven pivot ``system`` (a :class:`pendulab.numerics.sweep.SystemSpec`).
 
     The RK4 run takes ``steps_per_frame`` steps between frames (default: the
     fewest that give at least 100 steps per drive period, the simulate
     command's default), so that the frames are steps of the integration and
-    nothing is interpolated.
+    nothing is interpolated.  Its step is checked first
+    (:func:`pendulab.numerics.step_check.enforce`): an unstable one is refused naming
+    ``step_label`` (the option that chose it), a coarse one is passed to ``warn``.
     """
     import numpy as np
 
@@ -116,6 +118,9 @@ def pivot_frames(system, a_over_l, w0_over_w, theta_init=0.06, omega_init=0.01, 
     spec = S.make_spec(system, a_over_l=[a_over_l], w0_over_w=[w0_over_w],
                        theta_init=theta_init, omega_init=omega_init, periods=periods,
                        steps_per_period=frames_per_period * steps_per_frame)
+    from pendulab.numerics.step_check import enforce
+    label = step_label or f"frames_per_period = {frames_per_period}"
+    enforce(spec, f"{label} ({spec.steps_per_period} RK4 steps per period)", warn=warn)
     fos = S.first_order_system(system)
     with np.errstate(all="ignore"):
         run = S.trajectory(spec)

@@ -150,17 +150,10 @@ def _kapitza(args, problems, fpp):
         import sys
 
         from pendulab.animation import pivot_frames
-        from pendulab.numerics import sweep as S
-        from pendulab.numerics.step_check import enforce
-        # the RK4 step of pivot_frames' default (the fewest steps per frame that give at least
-        # 100 per drive period), refused if unstable before any frame is drawn
-        steps = fpp * -(-100 // fpp)
-        enforce(S.make_spec(system, a_over_l=[a], w0_over_w=[w], theta_init=th, omega_init=om,
-                            periods=periods, steps_per_period=steps),
-                f"--frames-per-period {fpp} ({steps} RK4 steps per period)",
-                warn=lambda line: sys.stderr.write(f"pendulab: {line}\n"))
+        # its RK4 step is refused if unstable before any frame is drawn
         return pivot_frames(system, a, w, theta_init=th, omega_init=om, periods=periods,
-                            frames_per_period=fpp)
+                            frames_per_period=fpp, step_label=f"--frames-per-period {fpp}",
+                            warn=lambda line: sys.stderr.write(f"pendulab: {line}\n"))
     return make
 
 

@@ -90,21 +90,13 @@ def produce(ctx, options):
             frames = string_frames(equations, values, options["theta_0"], options["t_end"],
                                    frames_per_period=options["frames_per_period"])
         else:
-            from pendulab.numerics import sweep as S
-            from pendulab.numerics.step_check import enforce
             from pendulab.products.experiments import system_spec
-            fpp = options["frames_per_period"]
-            steps = fpp * -(-100 // fpp)  # pivot_frames' default RK4 steps per drive period
-            enforce(S.make_spec(system_spec(ctx), a_over_l=[options["a_over_l"]],
-                                w0_over_w=[options["w0_over_w"]], periods=options["periods"],
-                                steps_per_period=steps),
-                    f"frames_per_period = {fpp} ({steps} RK4 steps per period)",
-                    warn=lambda line: sys.stderr.write(f"pendulab: {ctx.scene.path}: "
-                                                       f"products.animation: {line}\n"))
             frames = pivot_frames(system_spec(ctx), options["a_over_l"], options["w0_over_w"],
                                   theta_init=options["theta_init"],
                                   omega_init=options["omega_init"], periods=options["periods"],
-                                  frames_per_period=options["frames_per_period"])
+                                  frames_per_period=options["frames_per_period"],
+                                  warn=lambda line: sys.stderr.write(
+                                      f"pendulab: {ctx.scene.path}: products.animation: {line}\n"))
     except InputError as exc:
         raise SceneError(ctx.scene.path, "products.animation", str(exc)) from None
     return {FILE: gif_bytes(rendered(frames))}
