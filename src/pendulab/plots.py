@@ -157,6 +157,14 @@ def plot_option(p, what):
                         f"matplotlib, the 'figures' extra): {what}")
 
 
+def requested_format(args, problems):
+    """The format of a command's --plot ("png", "pdf", "svg"); None without --plot, or when
+    :func:`check_target` refuses it (the refusal is recorded in ``problems``)."""
+    if getattr(args, "plot", None) is None:
+        return None
+    return problems.call(check_target, args.plot)
+
+
 def check_target(path, option="--plot"):
     """The format of ``path`` ("png", "pdf" or "svg"), or a one-line InputError: a name
     without one of those extensions, a directory, a folder that does not exist or cannot be

@@ -81,7 +81,8 @@ def run_zeros(args):
         problems.add(f"--count x --dps = {count * dps} is more than {budget} digits in all "
                      f"{'for a non-integer order ' if dear else ''}(about a minute): "
                      "ask for fewer or shorter numbers")
-    plot_format = _plot_format(args, problems)
+    from pendulab.plots import requested_format
+    plot_format = requested_format(args, problems)
     problems.raise_any()
 
     from pendulab.analyses.bessel_zeros import bessel_zeros
@@ -110,7 +111,8 @@ def run_quarter(args):
     if count is not None and dps is not None and count * dps > limits.QUARTER_PERIOD_WORK:
         problems.add(f"--count x --dps = {count * dps} is more than {limits.QUARTER_PERIOD_WORK} "
                      "(about a minute): ask for fewer or shorter numbers")
-    plot_format = _plot_format(args, problems)
+    from pendulab.plots import requested_format
+    plot_format = requested_format(args, problems)
     problems.raise_any()
 
     from pendulab.analyses.bessel_periods import GROWING, SHORTENING, quarter_periods
@@ -139,14 +141,6 @@ def run_quarter(args):
     if q.time_to_zero_length is not None:
         print(f"L reaches 0 at t = {q.time_to_zero_length} (z = 0)")
     return 0
-
-
-def _plot_format(args, problems):
-    """The format of --plot ("png", "pdf", "svg"), None without it or when it is refused."""
-    if args.plot is None:
-        return None
-    from pendulab.plots import check_target
-    return problems.call(check_target, args.plot)
 
 
 def _plot_margins(path, fmt, q):

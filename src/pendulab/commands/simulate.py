@@ -62,10 +62,8 @@ def run(args):
     steps = problems.parse("experiments.steps_per_period", args.steps_per_period,
                            "--steps-per-period")
     every = problems.parse("simulate.every", args.every, "--every")
-    plot_format = None
-    if args.plot is not None:
-        from pendulab.plots import check_target
-        plot_format = problems.call(check_target, args.plot)
+    from pendulab.plots import requested_format
+    plot_format = requested_format(args, problems)
     if not problems:
         size = None
         if args.reference:

@@ -53,10 +53,8 @@ def run(args):
         inertia = problems.parse("stability.inertia_ratio", args.inertia_ratio, "--inertia-ratio")
     ratio = problems.parse("stability.ratio", args.ratio, "--ratio")
     problems.call(parse_method, args.method, prefix="--method: ")
-    plot_format = None
-    if args.plot is not None:
-        from pendulab.plots import check_target
-        plot_format = problems.call(check_target, args.plot)
+    from pendulab.plots import requested_format
+    plot_format = requested_format(args, problems)
     problems.raise_any()  # before SymPy is imported: a usage error answers at once
     if body is not None:
         from pendulab import symbols as S

@@ -129,10 +129,8 @@ def run(args):
         problems.add("--prune applies to mean, mean-abs and bounded (floquet integrates nothing)")
     if args.dask is not None and args.processes is not None:
         problems.add("give --dask or --processes, not both")
-    plot_format = None
-    if args.plot is not None:
-        from pendulab.plots import check_target
-        plot_format = problems.call(check_target, args.plot)
+    from pendulab.plots import requested_format
+    plot_format = requested_format(args, problems)
     if not problems:
         work = limits.sweep_problem(grid * grid, periods * steps, backend_estimate(),
                                     args.criterion, drive=args.drive is not None)
