@@ -201,26 +201,22 @@ def check_step(fos, dt, params):
     grid = np.arange(points) * (period / points)
     maxq = np.empty(n)
     try:
-        return _checked(fos, dt, params, q, amplitudes, period, points, grid, maxq, n)
-    except (OverflowError, ValueError):
+        with np.errstate(all="ignore"):
+            for s in range(0, n, CHUNK):
+                cols = [params[s:s + CHUNK, j:j + 1] for j in range(params.shape[1])]
+                vals = np.broadcast_to(q(grid[None, :], *cols),
+                                       (len(cols[0]) if cols else 1, points))
+                maxq[s:s + CHUNK] = np.max(np.abs(vals), axis=1)
+            harmonic = np.zeros(n)
+            for r, fn in amplitudes.items():
+                amp = np.broadcast_to(np.asarray(fn(*params.T), float), (n,))
+                harmonic = np.where(amp > 0, np.maximum(harmonic, r), harmonic)
+            # Bernstein: max |q| <= grid max / (1 - r (grid step)/2) for rate r <= r_max
+            upper = maxq / (1 - harmonic * (period / points) / 2)
+    except (OverflowError, ValueError):  # a coefficient as large as 1e308 a (exact integers)
         raise InputError("the drive's coefficient q(tau) of the linearised equation is too "
                          "large for double precision here: the RK4 step cannot be checked "
                          "(a smaller amplitude or frequency)") from None
-
-
-def _checked(fos, dt, params, q, amplitudes, period, points, grid, maxq, n):
-    import numpy as np
-    with np.errstate(all="ignore"):
-        for s in range(0, n, CHUNK):
-            cols = [params[s:s + CHUNK, j:j + 1] for j in range(params.shape[1])]
-            vals = np.broadcast_to(q(grid[None, :], *cols), (len(cols[0]) if cols else 1, points))
-            maxq[s:s + CHUNK] = np.max(np.abs(vals), axis=1)
-        harmonic = np.zeros(n)
-        for r, fn in amplitudes.items():
-            amp = np.broadcast_to(np.asarray(fn(*params.T), float), (n,))
-            harmonic = np.where(amp > 0, np.maximum(harmonic, r), harmonic)
-        # Bernstein: max |q| <= grid max / (1 - r (grid step)/2) for rate r <= r_max
-        upper = maxq / (1 - harmonic * (period / points) / 2)
     rate, rate_upper = np.sqrt(maxq), np.sqrt(upper)
     unstable = (dt * rate > RK4_IMAGINARY_LIMIT) | (dt * harmonic >= ALIAS_LIMIT)
     inaccurate = ~unstable & ((dt * rate_upper > WARN_RATE) | (dt * harmonic > WARN_DRIVE))
